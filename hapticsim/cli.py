@@ -95,7 +95,14 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     from hapticsim.experiments.reproduce import reproduce
 
     summary = reproduce(
-        args.which, out_dir=args.out, runs=args.runs, seed=args.seed, workers=args.workers
+        args.which,
+        out_dir=args.out,
+        runs=args.runs,
+        seed=args.seed,
+        workers=args.workers,
+        results=args.results,
+        figures_dir=args.figures_dir,
+        progress=not args.quiet,
     )
     _print_json(summary)
     return 0
@@ -152,9 +159,16 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("reproduce", help="regenerate the paper's Fig. 4 / Fig. 5")
     p.add_argument("which", choices=("fig4", "fig5", "all"))
     p.add_argument("--out", default="runs/reproduce", help="output directory")
-    p.add_argument("--runs", type=int, default=10, help="runs per hybrid setting (default 10)")
+    p.add_argument("--runs", type=int, default=10, help="runs (data sets) per setting (default 10)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument(
+        "--results", default=None, help="also write the Markdown report here (e.g. RESULTS.md)"
+    )
+    p.add_argument(
+        "--figures-dir", default=None, help="pictures of the report (default: docs/figures)"
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_reproduce)
     return parser
 

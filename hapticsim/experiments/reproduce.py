@@ -1,0 +1,151 @@
+"""``hapticsim reproduce``: regenerate the paper's Fig. 4 and Fig. 5 with tables and claims.
+
+All trials of the requested figures are run in one process pool (a setting shared by both
+figures, e.g. the cylinder at the default budget, is fitted once), then tables, pictures, the
+claim checks and optionally ``RESULTS.md`` are written.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import shutil
+import time
+from pathlib import Path
+from typing import Any
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.experiments.claims import check_claims
+from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
+from hapticsim.experiments.fig5 import Fig5Config, collect_fig5, write_fig5
+from hapticsim.experiments.parallel import parallel_map, resolve_workers
+from hapticsim.experiments.trial import run_trial
+
+WHICH: tuple[str, ...] = ("fig4", "fig5", "all")
+
+
+def reproduce(
+    which: str,
+    out_dir: str | Path = "runs/reproduce",
+    runs: int = 10,
+    seed: int = 0,
+    workers: int | None = None,
+    *,
+    budget: int | None = None,
+    budgets: tuple[int, ...] | None = None,
+    noises: tuple[float, ...] | None = None,
+    results: str | Path | None = None,
+    figures_dir: str | Path | None = None,
+    progress: bool = True,
+) -> dict[str, Any]:
+    """Run the paper's evaluation and write its tables, figures and claim checks.
+
+    Args:
+        which: ``"fig4"``, ``"fig5"`` or ``"all"``.
+        out_dir: directory for CSV, Markdown, PNG and ``summary.json`` (created).
+        runs: data sets (fresh noise) per setting, >= 1.
+        seed: root seed, >= 0; every trial's seed derives from it and the trial's settings.
+        workers: processes, default ``os.cpu_count()``; results do not depend on it.
+        budget: budget of Fig. 4 and of the noise sweep; default ``DEFAULT_BUDGET``.
+        budgets: budgets of the n sweep; default fractions of ``DEFAULT_BUDGET``.
+        noises: sigma_N of the noise sweep; default :data:`fig5.NOISE_LEVELS`.
+        results: also write this Markdown report (e.g. ``RESULTS.md``), with the pictures
+            copied to `figures_dir`.
+        figures_dir: where the report's pictures go; default ``docs/figures`` beside `results`.
+        progress: tqdm bar on stderr.
+
+    Returns:
+        JSON-ready summary: settings, run time, files, the Fig. 4 means and the claim verdicts.
+
+    Raises:
+        InvalidInputError: unknown `which`, runs < 1, seed < 0, workers < 1, bad grids.
+    """
+    if which not in WHICH:
+        raise InvalidInputError(f"`which` must be one of {', '.join(WHICH)}, got {which!r}")
+    n_workers = resolve_workers(workers)
+    fig4_cfg = Fig4Config(runs=runs, seed=seed, budget=budget) if which != "fig5" else None
+    fig5_cfg = None
+    if which != "fig4":
+        extra: dict[str, Any] = {} if noises is None else {"noises": tuple(noises)}
+        fig5_cfg = Fig5Config(runs=runs, seed=seed, budgets=budgets, noise_budget=budget, **extra)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+
+    start = time.perf_counter()
+    trials = list(
+        dict.fromkeys(
+            (fig4_cfg.trials() if fig4_cfg else []) + (fig5_cfg.trials() if fig5_cfg else [])
+        )
+    )
+    results_list = parallel_map(
+        run_trial, trials, workers=n_workers, desc=f"reproduce {which}", progress=progress,
+        cost=lambda t: t.budget,
+    )  # fmt: skip
+    done = dict(zip(trials, results_list, strict=True))
+    fit_seconds = time.perf_counter() - start
+
+    files: dict[str, Path] = {}
+    fig4 = collect_fig4(fig4_cfg, done) if fig4_cfg else None
+    fig5 = collect_fig5(fig5_cfg, done) if fig5_cfg else None
+    if fig4:
+        files.update({f"fig4_{k}": v for k, v in write_fig4(fig4, out).items()})
+    if fig5:
+        files.update({f"fig5_{k}": v for k, v in write_fig5(fig5, out).items()})
+    claims = check_claims(
+        fig4_rows=fig4.rows() if fig4 else None,
+        budget_rows=[r.to_row() for r in fig5.budget_results] if fig5 else None,
+        by_budget=fig5.by_budget() if fig5 else None,
+        noise_rows=[r.to_row() for r in fig5.noise_results] if fig5 else None,
+        by_noise=fig5.by_noise() if fig5 else None,
+    )
+    seconds = time.perf_counter() - start
+    summary: dict[str, Any] = {
+        "which": which,
+        "out_dir": str(out),
+        "runs": runs,
+        "seed": seed,
+        "workers": n_workers,
+        "trials": len(trials),
+        "seconds": round(seconds, 1),
+        "fit_seconds": round(fit_seconds, 1),
+        "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
+        f"{platform.python_version()}",
+        "fig4": _fig4_means(fig4) if fig4 else None,
+        "claims": [{"statement": c.statement, "verdict": c.verdict} for c in claims],
+    }
+    if results is not None:
+        from hapticsim.experiments.report import write_results
+
+        files["results"] = write_results(
+            results, fig4=fig4, fig5=fig5, claims=claims, summary=summary,
+            figures=_copy_figures(files, results, figures_dir),
+        )  # fmt: skip
+    summary["files"] = {k: str(v) for k, v in files.items()}
+    from hapticsim.data.io import write_json
+
+    write_json(out / "summary.json", {**summary, "claims": [c.to_dict() for c in claims]})
+    summary["files"]["summary"] = str(out / "summary.json")
+    return summary
+
+
+def _fig4_means(fig4: Fig4Result) -> list[dict[str, Any]]:
+    keys = ("theta", "alpha", "beta", "epsilon", "iou", "chamfer", "seconds")
+    return [
+        {"body": r["body"], "method": r["method"], **{k: r[f"{k}_mean"] for k in keys}}
+        for r in fig4.summary()
+    ]
+
+
+def _copy_figures(
+    files: dict[str, Path], results: str | Path, figures_dir: str | Path | None
+) -> dict[str, Path]:
+    """Copy the PNGs next to the report (``docs/figures`` by default); returns their paths."""
+    target = Path(figures_dir) if figures_dir else Path(results).parent / "docs" / "figures"
+    target.mkdir(parents=True, exist_ok=True)
+    copied = {}
+    for key in ("fig4_figure", "fig5_figure"):
+        if key in files:
+            dest = target / files[key].name
+            shutil.copyfile(files[key], dest)
+            copied[key] = dest
+    return copied

@@ -1,0 +1,183 @@
+"""One trial of the paper's evaluation: synthesise contacts, fit, score (paper Sections III-IV).
+
+A :class:`Trial` names everything a worker process needs (body, noise, method, budget and the
+seeds); :func:`run_trial` is the module-level function the sweeps map over processes. The data of
+a trial depend only on its ``data_key``, so the four methods of one run see the same contacts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.errors import InvalidInputError
+from hapticsim.experiments.parallel import seed_sequence
+
+Array = NDArray[np.float64]
+
+#: Quality measures of one trial, in table order.
+METRICS: tuple[str, ...] = ("theta", "alpha", "beta", "epsilon", "iou", "chamfer", "seconds")
+
+
+def uses_normals(method: str) -> bool:
+    """True for the methods whose EOF uses contact normals (``nLS``, ``nH``; SPEC §3)."""
+    return method.startswith("n")
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One fit of one synthetic data set.
+
+    Attributes:
+        body: name of a paper body (``hapticsim.data.bodies.BODY_NAMES``).
+        method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"``.
+        noise: relative noise sigma_N of points and normals (SPEC §5), >= 0.
+        budget: EOF evaluations allowed to the fit, >= 1.
+        count: number of contacts.
+        run: index of the run (repetition with fresh noise), >= 0.
+        seed: the root seed of the sweep.
+        data_key: key of the data seed; equal keys give equal contacts.
+        fit_key: key of the fit seed (GA randomness) and of the volume sampling of the score.
+    """
+
+    body: str
+    method: str
+    noise: float
+    budget: int
+    count: int
+    run: int
+    seed: int
+    data_key: tuple[int, ...]
+    fit_key: tuple[int, ...]
+
+    def __post_init__(self) -> None:
+        if self.noise < 0 or not np.isfinite(self.noise):
+            raise InvalidInputError(f"`noise` must be finite and >= 0, got {self.noise}")
+        if self.budget < 1:
+            raise InvalidInputError(f"`budget` must be >= 1, got {self.budget}")
+        if self.count < 1:
+            raise InvalidInputError(f"`count` must be >= 1, got {self.count}")
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """Quality of one fit (paper III-B, SPEC §4) and what produced it.
+
+    Attributes:
+        trial: the trial.
+        theta: ``D(S_e) / (D(S_s) + 1)`` with the EOF the method minimises (with normals for
+            nLS/nH, points only, theta^(1), for LS/H).
+        alpha, beta, epsilon, iou: volume measures of estimate against truth.
+        chamfer: symmetric Chamfer distance of the surfaces [m].
+        eof: final EOF of the fit [m^2].
+        evaluations: EOF evaluations the fit used.
+        seconds: wall time of the fit [s].
+        estimate: the fitted superquadric as a SPEC §6 dict.
+        points: (n, 3) float, the noisy contact points [m] (kept for pictures).
+        normals: (n, 3) float, the noisy contact normals.
+    """
+
+    trial: Trial
+    theta: float
+    alpha: float
+    beta: float
+    epsilon: float
+    iou: float
+    chamfer: float
+    eof: float
+    evaluations: int
+    seconds: float
+    estimate: dict[str, Any]
+    points: Array = field(repr=False)
+    normals: Array = field(repr=False)
+
+    def to_row(self) -> dict[str, Any]:
+        """A flat CSV row: trial settings, then quality measures."""
+        t = self.trial
+        return {
+            "body": t.body, "method": t.method, "noise": t.noise, "budget": t.budget,
+            "count": t.count, "run": t.run, "theta": self.theta, "alpha": self.alpha,
+            "beta": self.beta, "epsilon": self.epsilon, "iou": self.iou,
+            "chamfer": self.chamfer, "eof": self.eof, "evaluations": self.evaluations,
+            "seconds": self.seconds,
+        }  # fmt: skip
+
+
+def make_trial(
+    body: str, method: str, noise: float, budget: int, count: int, run: int, seed: int
+) -> Trial:
+    """A :class:`Trial` with seeds keyed by its settings, never by its place in a sweep.
+
+    The data key is (body, noise, count, run), so all methods and budgets of one run fit the same
+    contacts (paired comparisons), and the same setting in Fig. 4 and Fig. 5 is the same trial.
+    The fit key adds the method; the budget is left out, so the fits of one run at growing
+    budgets share their random numbers (common random numbers, smoother curves).
+
+    Raises:
+        InvalidInputError: unknown body or method, or a bad setting.
+    """
+    from hapticsim.data.bodies import BODY_NAMES
+    from hapticsim.fitting.methods import METHODS
+
+    if body not in BODY_NAMES:
+        raise InvalidInputError(f"`body` must be one of {', '.join(BODY_NAMES)}, got {body!r}")
+    if method not in METHODS:
+        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
+    if noise < 0 or not np.isfinite(noise):
+        raise InvalidInputError(f"`noise` must be finite and >= 0, got {noise}")
+    data_key = (BODY_NAMES.index(body), round(noise * 1e6), int(count), int(run))
+    return Trial(
+        body=body, method=method, noise=float(noise), budget=int(budget), count=int(count),
+        run=int(run), seed=int(seed), data_key=data_key,
+        fit_key=(*data_key, METHODS.index(method)),
+    )  # fmt: skip
+
+
+def make_data(trial: Trial) -> tuple[Any, Any]:
+    """The true superquadric and the noisy contacts of a trial (paper III-A, SPEC §5).
+
+    Returns:
+        (truth, contacts): a ``Superquadric`` and a ``hapticsim.data.io.Contacts``.
+    """
+    from hapticsim.data.bodies import get_body
+    from hapticsim.data.synthetic import paper_dataset
+
+    truth = get_body(trial.body)
+    rng = np.random.default_rng(seed_sequence(trial.seed, *trial.data_key))
+    contacts = paper_dataset(truth, noise=trial.noise, rng=rng, count=trial.count)
+    return truth, contacts
+
+
+def run_trial(trial: Trial) -> TrialResult:
+    """Synthesise the trial's contacts, fit them with its method and budget, and score the fit."""
+    from hapticsim.fitting import fit
+    from hapticsim.metrics import score, theta
+
+    truth, contacts = make_data(trial)
+    fit_ss = seed_sequence(trial.seed, *trial.fit_key)
+    fit_rng, score_rng = (np.random.default_rng(s) for s in fit_ss.spawn(2))
+    result = fit(
+        contacts.points, contacts.normals, method=trial.method, budget=trial.budget, rng=fit_rng
+    )
+    estimate = result.superquadric
+    normals = contacts.normals if uses_normals(trial.method) else None
+    quality = score(estimate, truth, rng=score_rng)
+    return TrialResult(
+        trial=trial,
+        theta=float(theta(estimate, truth, contacts.points, normals, lam=DEFAULT_LAMBDA)),
+        alpha=float(quality.alpha),
+        beta=float(quality.beta),
+        epsilon=float(quality.epsilon),
+        iou=float(quality.iou),
+        chamfer=float(quality.chamfer),
+        eof=float(result.eof),
+        evaluations=int(result.evaluations),
+        seconds=float(result.seconds),
+        estimate=estimate.to_dict(),
+        points=contacts.points,
+        normals=contacts.normals,
+    )
