@@ -1,0 +1,149 @@
+"""The fit inside the exploration loop: full robust fits where they pay, warm starts otherwise.
+
+A full ``nH`` fit (genetic algorithm + least squares, paper Section II) is robust but costs
+thousands of error-of-fit evaluations; after one touch the previous estimate is usually close, so
+a least-squares refinement warm-started from it (``fit(..., initial=previous)``) is enough. The
+:class:`FitSchedule` decides: no fit below ``min_contacts`` contacts (a superquadric has 13
+parameters), a full fit on the first touch with enough contacts and then every ``full_every``
+touches, a warm-started refinement on the touches between.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.geometry import N_PARAMS, Superquadric
+
+Array = NDArray[np.float64]
+
+#: What a fit update did.
+FIT_STATUSES: tuple[str, ...] = ("too_few_contacts", "full", "refine", "kept", "failed")
+#: Fitting methods with normals (SPEC §3); the environment always measures normals.
+_METHODS: tuple[str, ...] = ("nH", "nLS", "H", "LS")
+
+
+@dataclass(frozen=True)
+class FitSchedule:
+    """When and how the environment refits.
+
+    Attributes:
+        method: method of the full fits (SPEC §3), default ``"nH"``.
+        refine_method: method of the warm-started refinements, default ``"nLS"``.
+        full_every: a full fit every this many touches after the first one; 1 makes every fit
+            full, a number larger than the touch budget only the first.
+        full_budget: evaluation budget of a full fit (None: the fitter's default).
+        refine_budget: evaluation budget of a refinement (None: the fitter's default).
+        min_contacts: fewest contacts to fit (13 parameters: at least 13).
+    """
+
+    method: str = "nH"
+    refine_method: str = "nLS"
+    full_every: int = 5
+    full_budget: int | None = 4000
+    refine_budget: int | None = 400
+    min_contacts: int = N_PARAMS
+
+    def __post_init__(self) -> None:
+        for name in ("method", "refine_method"):
+            if getattr(self, name) not in _METHODS:
+                raise InvalidInputError(
+                    f"`{name}` must be one of {_METHODS}, got {getattr(self, name)!r}"
+                )
+        if isinstance(self.full_every, bool) or int(self.full_every) < 1:
+            raise InvalidInputError(f"`full_every` must be an int >= 1, got {self.full_every!r}")
+        for name in ("full_budget", "refine_budget"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or int(value) < 1):
+                raise InvalidInputError(f"`{name}` must be None or an int >= 1, got {value!r}")
+        if isinstance(self.min_contacts, bool) or int(self.min_contacts) < N_PARAMS:
+            raise InvalidInputError(
+                f"`min_contacts` must be an int >= {N_PARAMS}, got {self.min_contacts!r}"
+            )
+
+
+@dataclass(frozen=True)
+class FitUpdate:
+    """The outcome of one :meth:`IncrementalFitter.update`.
+
+    Attributes:
+        estimate: the current estimate (None before the first fit).
+        eof: its error of fit on all contacts so far [m^2] (0.0 without an estimate).
+        status: one of :data:`FIT_STATUSES`.
+        evaluations: EOF evaluations the update used.
+        seconds: wall-clock time of the update [s].
+        message: the fitter's complaint when ``status == "failed"``.
+    """
+
+    estimate: Superquadric | None
+    eof: float
+    status: str
+    evaluations: int = 0
+    seconds: float = 0.0
+    message: str = ""
+
+
+class IncrementalFitter:
+    """Keeps the estimate of one episode up to date as contacts arrive.
+
+    Args:
+        schedule: the fit schedule.
+    """
+
+    def __init__(self, schedule: FitSchedule | None = None) -> None:
+        self.schedule = schedule or FitSchedule()
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the estimate (new episode)."""
+        self.estimate: Superquadric | None = None
+        self.eof = 0.0
+        self._touches_since_full = 0
+
+    def update(
+        self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: bool = True
+    ) -> FitUpdate:
+        """Refit after a touch.
+
+        Args:
+            points: (n, 3) float, all contacts so far [m, world].
+            normals: (n, 3) float, their outward unit normals.
+            rng: generator for the fitter's seed (one draw per fit).
+            new_contacts: False when the touch brought nothing: the estimate is kept.
+
+        Returns:
+            the update.
+        """
+        from hapticsim.fitting import fit
+
+        start = time.perf_counter()
+        sched = self.schedule
+        if len(points) < sched.min_contacts:
+            return FitUpdate(None, 0.0, "too_few_contacts")
+        self._touches_since_full += 1
+        if self.estimate is not None and not new_contacts:
+            return FitUpdate(self.estimate, self.eof, "kept")
+        full = self.estimate is None or self._touches_since_full >= sched.full_every
+        seed = int(rng.integers(2**31 - 1))
+        method = sched.method if full else sched.refine_method
+        budget = sched.full_budget if full else sched.refine_budget
+        try:
+            result = fit(
+                points, normals, method=method, budget=budget, rng=seed, initial=self.estimate
+            )
+        except HapticsimError as exc:
+            return FitUpdate(
+                self.estimate, self.eof, "failed", 0, time.perf_counter() - start, str(exc)
+            )
+        if full:
+            self._touches_since_full = 0
+        self.estimate = result.superquadric
+        self.eof = float(result.eof)
+        return FitUpdate(
+            self.estimate, self.eof, "full" if full else "refine", int(result.evaluations),
+            time.perf_counter() - start,
+        )  # fmt: skip

@@ -1,0 +1,576 @@
+"""``hapticsim/HapticExplore-v0``: choose touches to recover an object's superquadric shape.
+
+See :class:`HapticExploreEnv`.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from numpy.typing import NDArray
+
+from hapticsim.constants import EPS_MAX, EPS_MIN
+from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
+from hapticsim.envs.objects import ObjectDistribution
+from hapticsim.envs.touch import ACTION_DIM, TouchBackend, TouchResult, decode_action
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import N_PARAMS, Superquadric
+
+Array = NDArray[np.float64]
+
+# Headless Linux (no DISPLAY): render offscreen with EGL unless the user chose a GL backend.
+# MuJoCo reads MUJOCO_GL when it is first imported, so this must run before that.
+if (
+    sys.platform.startswith("linux")
+    and not os.environ.get("DISPLAY")
+    and "mujoco" not in sys.modules
+):
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
+#: Backends that execute touches.
+BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
+#: Reward definitions.
+REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
+#: Bound of the scaled coordinates in the observation (points, fit); values are clipped to it.
+OBS_BOUND: float = 10.0
+#: Unit sphere directions on which the coverage uncertainty is evaluated.
+_N_COVERAGE: int = 256
+
+
+def fibonacci_sphere(n: int) -> Array:
+    """(n, 3) float, nearly uniform unit vectors (Fibonacci lattice), deterministic."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r = np.sqrt(1.0 - z * z)
+    phi = np.pi * (1.0 + 5.0**0.5) * i
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+@dataclass(frozen=True)
+class HapticExploreConfig:
+    """Everything that defines the environment (the keyword arguments of the constructor).
+
+    Attributes:
+        backend: ``"mujoco"`` (the simulated hand) or ``"analytic"`` (ray casting on the true
+            superquadric; fast, same action semantics).
+        objects: the object distribution, or one of its kind names (``"paper"``, ``"random"``,
+            ``"random_tapered"``).
+        touch_budget: touches per episode; the episode is truncated after it.
+        max_contacts: size of the observation's contact buffer (later contacts are still fitted
+            but not shown).
+        max_stroke: stroke length of action component 3 = 1 [m].
+        stroke_spacing: distance between contacts along a stroke [m].
+        noise: relative sensor noise sigma_N (SPEC §5).
+        position_noise: standard deviation of the object's rough position per axis [m] (what a
+            robot knows before touching: the origin of the object-centred frame).
+        obs_scale: length [m] dividing points, semi-axes and centre in the observation.
+        reward: ``"epsilon"`` (privileged: the drop of the volume error epsilon of the estimate
+            against the ground truth), ``"uncertainty"`` (drop of the coverage uncertainty of the
+            estimate, no ground truth) or ``"eof"`` (drop of the estimate's normalised RMS error of
+            fit, no ground truth).
+        target_epsilon: terminate when epsilon falls to this value (privileged); None: never.
+        fit: the fit schedule.
+        table: the object rests on a table (analytic backend; the MuJoCo scene always has one).
+        compute_metrics: score the estimate against the truth every step (info); forced on for
+            ``reward="epsilon"`` and ``target_epsilon``.
+        metric_samples: Monte Carlo samples of the volume metrics (None: the metric's default).
+        width, height: size of rendered pictures [pixels].
+    """
+
+    backend: str = "mujoco"
+    objects: ObjectDistribution | str = "paper"
+    touch_budget: int = 20
+    max_contacts: int = 256
+    max_stroke: float = 0.05
+    stroke_spacing: float = 0.005
+    noise: float = 0.02
+    position_noise: float = 0.005
+    obs_scale: float = 0.1
+    reward: str = "epsilon"
+    target_epsilon: float | None = None
+    fit: FitSchedule = field(default_factory=FitSchedule)
+    table: bool = True
+    compute_metrics: bool = True
+    metric_samples: int | None = None
+    width: int = 480
+    height: int = 360
+
+    def __post_init__(self) -> None:
+        if self.backend not in BACKENDS:
+            raise InvalidInputError(f"`backend` must be one of {BACKENDS}, got {self.backend!r}")
+        if self.reward not in REWARDS:
+            raise InvalidInputError(f"`reward` must be one of {REWARDS}, got {self.reward!r}")
+        object.__setattr__(self, "objects", ObjectDistribution.coerce(self.objects))
+        if not isinstance(self.fit, FitSchedule):
+            raise InvalidInputError(f"`fit` must be a FitSchedule, got {type(self.fit).__name__}")
+        for name in ("touch_budget", "max_contacts", "width", "height"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+                raise InvalidInputError(f"`{name}` must be an int >= 1, got {value!r}")
+        if self.metric_samples is not None and (
+            isinstance(self.metric_samples, bool) or int(self.metric_samples) < 1000
+        ):
+            raise InvalidInputError(
+                f"`metric_samples` must be None or an int >= 1000, got {self.metric_samples!r}"
+            )
+        for name, low, high in (
+            ("max_stroke", 0.0, 1.0), ("stroke_spacing", 1e-4, 1.0), ("noise", 0.0, 1.0),
+            ("position_noise", 0.0, 0.1), ("obs_scale", 1e-3, 10.0),
+        ):  # fmt: skip
+            value = getattr(self, name)
+            if (
+                not isinstance(value, (int, float))
+                or not np.isfinite(value)
+                or not (low <= value <= high)
+            ):
+                raise InvalidInputError(f"`{name}` must be in [{low}, {high}], got {value!r}")
+        if self.target_epsilon is not None and not 0.0 <= float(self.target_epsilon) <= 2.0:
+            raise InvalidInputError(
+                f"`target_epsilon` must be None or in [0, 2], got {self.target_epsilon!r}"
+            )
+        if self.reward == "epsilon" or self.target_epsilon is not None:
+            object.__setattr__(self, "compute_metrics", True)
+
+
+@dataclass(frozen=True)
+class StepTimings:
+    """Wall-clock times of one step [s].
+
+    Measurements, not environment state: two timings always compare equal, so that seeded
+    episodes give equal ``info`` dictionaries (Gymnasium's determinism checks).
+
+    Attributes:
+        touch: executing the touch (simulation or ray casting) [s].
+        fit: updating the estimate [s].
+        metrics: scoring it against the truth [s].
+        step: the whole step [s].
+    """
+
+    touch: float = field(default=0.0, compare=False)
+    fit: float = field(default=0.0, compare=False)
+    metrics: float = field(default=0.0, compare=False)
+    step: float = field(default=0.0, compare=False)
+
+    def to_dict(self) -> dict[str, float]:
+        """``{"touch", "fit", "metrics", "step"}`` [s]."""
+        return {"touch": self.touch, "fit": self.fit, "metrics": self.metrics, "step": self.step}
+
+
+def make_backend(config: HapticExploreConfig) -> TouchBackend:
+    """The touch backend named by ``config.backend``."""
+    if config.backend == "analytic":
+        from hapticsim.envs.analytic import AnalyticBackend
+
+        return AnalyticBackend(
+            noise=config.noise, table=config.table, stroke_spacing=config.stroke_spacing
+        )
+    from hapticsim.envs.mujoco_backend import MujocoBackend
+
+    return MujocoBackend(noise=config.noise, stroke_spacing=config.stroke_spacing)
+
+
+def encode_fit(estimate: Superquadric | None, origin: Array, scale: float) -> NDArray[np.float32]:
+    """The 13 normalised fit parameters of the observation (zeros without an estimate).
+
+    Order of :meth:`Superquadric.to_vector`: ``a / scale``, ``(eps - 1.05) / 0.95`` (so [0.1, 2]
+    maps to [-1, 1]), taper, ``rotvec / pi``, ``(center - origin) / scale``.
+
+    Args:
+        estimate: the fit, or None.
+        origin: (3,) float, the object-centred frame's origin [m, world].
+        scale: the observation's length scale [m].
+    """
+    if estimate is None:
+        return np.zeros(N_PARAMS, np.float32)
+    v = estimate.to_vector()
+    mid, half = 0.5 * (EPS_MAX + EPS_MIN), 0.5 * (EPS_MAX - EPS_MIN)
+    out = np.concatenate(
+        [
+            v[0:3] / scale,
+            (v[3:5] - mid) / half,
+            v[5:7],
+            v[7:10] / np.pi,
+            (v[10:13] - origin) / scale,
+        ]
+    )
+    return np.clip(out, -OBS_BOUND, OBS_BOUND).astype(np.float32)
+
+
+def decode_fit(fit_obs: Any, scale: float) -> Superquadric:
+    """The estimate, in the object-centred frame, from the observation's ``"fit"`` entry.
+
+    Args:
+        fit_obs: (13,) float, as made by :func:`encode_fit`.
+        scale: the observation's length scale [m] (``config.obs_scale``).
+
+    Returns:
+        the superquadric with its centre relative to the object-centred frame's origin [m].
+    """
+    v = np.asarray(fit_obs, dtype=np.float64)
+    mid, half = 0.5 * (EPS_MAX + EPS_MIN), 0.5 * (EPS_MAX - EPS_MIN)
+    vec = np.concatenate(
+        [np.maximum(v[0:3] * scale, 1e-6), np.clip(v[3:5] * half + mid, EPS_MIN, EPS_MAX),
+         np.clip(v[5:7], -1, 1), v[7:10] * np.pi, v[10:13] * scale]
+    )  # fmt: skip
+    return Superquadric.from_vector(vec)
+
+
+def coverage_uncertainty(estimate: Superquadric | None, points: Array) -> float:
+    """How much of the estimate's surface no contact supports, in [0, 1] (no ground truth).
+
+    Surface points of the estimate in 256 fixed directions (uniform parametrisation) each count
+    ``min(1, d / r)``, d the distance to the nearest contact and ``r = mean(a)`` of the estimate;
+    the result is their mean. 1 without an estimate.
+
+    Args:
+        estimate: the current fit or None.
+        points: (n, 3) float, contacts [m, world].
+    """
+    if estimate is None or len(points) == 0:
+        return 1.0
+    surf = _coverage_surface(estimate)
+    d2 = np.min(np.sum((surf[:, None, :] - points[None, :, :]) ** 2, axis=-1), axis=1)
+    return float(np.mean(np.minimum(1.0, np.sqrt(d2) / float(np.mean(estimate.a)))))
+
+
+def _coverage_surface(estimate: Superquadric) -> Array:
+    dirs = fibonacci_sphere(_N_COVERAGE)
+    eta = np.arcsin(np.clip(dirs[:, 2], -1, 1))
+    omega = np.arctan2(dirs[:, 1], dirs[:, 0])
+    return estimate.surface(eta, omega)[0]
+
+
+class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
+    """Haptic exploration of one object: each step is one touch, the goal a good superquadric.
+
+    An episode draws an object (the paper's four bodies by default, or random superquadrics,
+    tapered or not) and keeps it in a fixed pose. The agent knows only the object's rough
+    position (the true centre plus Gaussian noise of ``position_noise`` per axis), the origin of
+    the *object-centred frame* (axes parallel to the world's). Each action is one touch, a probe
+    or a short contour stroke, executed by a scripted controller of the MuJoCo hand (or, with
+    ``backend="analytic"``, by ray casting on the analytic surface). The contacts so far are
+    fitted by a superquadric (robust ``nH`` fits where they pay, warm-started least squares in
+    between; see :class:`~hapticsim.envs.estimator.FitSchedule`).
+
+    ## Action space
+
+    ``Box(-1, 1, (5,), float32)``, one touch (:mod:`hapticsim.envs.touch`):
+
+    | Num | Action             | Min | Max | Mapping                                       | Unit  |
+    |-----|--------------------|-----|-----|-----------------------------------------------|-------|
+    | 0   | approach azimuth   | -1  | 1   | phi = pi * a0                                 | rad   |
+    | 1   | approach elevation | -1  | 1   | sin(elevation) = a1 (uniform on the sphere)   | rad   |
+    | 2   | stroke direction   | -1  | 1   | psi = pi * a2 in the contact's tangent plane, | rad   |
+    |     |                    |     |     | 0 horizontal (z x n), pi/2 upward             |       |
+    | 3   | stroke length      | -1  | 1   | L = (a3 + 1) / 2 * max_stroke, a probe when   | m     |
+    |     |                    |     |     | L < stroke_spacing                            |       |
+    | 4   | finger             | -1  | 1   | floor((a4 + 1) / 2 * n_fingers), 0 = thumb    | index |
+
+    The fingertip comes from far along the approach direction ``(cos el cos phi, cos el sin phi,
+    sin el)`` (object-centred frame) towards the rough position and stops at the first contact;
+    a stroke then follows the contour, one contact every ``stroke_spacing`` metres.
+
+    ## Observation space
+
+    ``Dict``; M = ``max_contacts``, s = ``obs_scale`` [m], all float32 but the masks:
+
+    | Key        | Shape   | Content                                                  | Unit   |
+    |------------|---------|----------------------------------------------------------|--------|
+    | points     | (M, 3)  | contact points minus the rough position, divided by s,   | 1      |
+    |            |         | in order of arrival, 0 where ``mask`` is 0               |        |
+    | normals    | (M, 3)  | measured outward unit normals, 0 where ``mask`` is 0     | 1      |
+    | mask       | (M,)    | MultiBinary: 1 for a filled buffer slot                  | -      |
+    | fit        | (13,)   | current estimate: a / s (3), (eps - 1.05) / 0.95 (2),    | 1      |
+    |            |         | taper (2), rotation vector / pi (3),                     |        |
+    |            |         | (centre - rough position) / s (3); 0 without a fit       |        |
+    | fit_valid  | (1,)    | MultiBinary: 1 once a fit exists (>= 13 contacts)        | -      |
+    | eof        | (1,)    | sqrt(error of fit) / s of the estimate; 0 without a fit  | 1      |
+    | touches    | (1,)    | touches made so far, in [0, touch_budget]                | count  |
+
+    Scaled values are clipped to [-10, 10]. The observation never holds the ground truth;
+    :func:`decode_fit` turns ``fit`` back into a :class:`~hapticsim.geometry.Superquadric`.
+
+    ## Rewards
+
+    - ``"epsilon"`` (default, **privileged**: uses the ground truth, for studying strategies, not
+      available on a robot): ``epsilon_{t-1} - epsilon_t``, epsilon = alpha + beta of the
+      estimate against the truth (SPEC §4); epsilon = 1 while there is no estimate (all of the
+      object missed), so an episode's return is ``1 - epsilon_final``.
+    - ``"uncertainty"``: ``U_{t-1} - U_t``, U the :func:`coverage_uncertainty` of the estimate
+      (1 without one); no ground truth.
+    - ``"eof"``: ``e_{t-1} - e_t``, ``e = min(1, sqrt(EOF) / mean(a))`` of the estimate (1 without
+      one); no ground truth, but it rewards touching where the fit is already good.
+
+    ## Episode end
+
+    Truncated after ``touch_budget`` touches (default 20); terminated when epsilon <=
+    ``target_epsilon`` (privileged, off by default).
+
+    ## Info
+
+    ``alpha``, ``beta``, ``epsilon``, ``iou``, ``chamfer`` [m] of the estimate against the truth
+    (before the first fit: 0, 1, 1, 0, inf); ``n_contacts``, ``new_contacts``, ``touch_status``
+    (``ok``, ``missed``, ``blocked``, ``failed``), ``fit_status`` (``too_few_contacts``, ``full``,
+    ``refine``, ``kept``, ``failed``), ``fit_eof`` [m^2], ``fit_evaluations``; ``timings``
+    (:class:`StepTimings`: touch, fit, metrics, step [s]);
+    ``estimate`` and ``truth`` (:class:`~hapticsim.geometry.Superquadric`, world frame),
+    ``origin`` (rough position [m, world]), ``uncertainty``. All contacts, with fingers, forces,
+    times and clean values, are in :attr:`contacts`.
+
+    ## Arguments
+
+    ``render_mode`` (None or ``"rgb_array"``, offscreen MuJoCo: set ``MUJOCO_GL=egl``) and the
+    fields of :class:`HapticExploreConfig` as keywords (or ``config=``).
+    ``reset(options={"shape": Superquadric})`` explores the given object instead of drawing one.
+
+    ## Version history
+
+    - v0: initial version.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
+
+    def __init__(
+        self,
+        render_mode: str | None = None,
+        config: HapticExploreConfig | None = None,
+        **kwargs: Any,
+    ) -> None:
+        if config is not None and kwargs:
+            raise InvalidInputError("give either `config` or keyword arguments, not both")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise InvalidInputError(
+                f"`render_mode` must be None or one of {self.metadata['render_modes']}, got "
+                f"{render_mode!r}"
+            )
+        if "fit" in kwargs and isinstance(kwargs["fit"], dict):
+            kwargs["fit"] = FitSchedule(**kwargs["fit"])
+        self.config = config if config is not None else HapticExploreConfig(**kwargs)
+        self.render_mode = render_mode
+        self._backend = make_backend(self.config)
+        self.n_fingers = int(self._backend.n_fingers)
+        self._fitter = IncrementalFitter(self.config.fit)
+
+        m = self.config.max_contacts
+        b = OBS_BOUND
+        self.observation_space = spaces.Dict(
+            {
+                "points": spaces.Box(-b, b, (m, 3), np.float32),
+                "normals": spaces.Box(-1.0, 1.0, (m, 3), np.float32),
+                "mask": spaces.MultiBinary(m),
+                "fit": spaces.Box(-b, b, (N_PARAMS,), np.float32),
+                "fit_valid": spaces.MultiBinary(1),
+                "eof": spaces.Box(0.0, b, (1,), np.float32),
+                "touches": spaces.Box(0.0, float(self.config.touch_budget), (1,), np.float32),
+            }
+        )
+        self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM,), np.float32)
+        self._truth: Superquadric | None = None
+        self._origin = np.zeros(3)
+        self._clear()
+
+    # ------------------------------------------------------------------ state
+    def _clear(self) -> None:
+        self._points: list[Array] = []
+        self._normals: list[Array] = []
+        self._extra: dict[str, list[np.ndarray]] = {
+            k: [] for k in ("points_clean", "normals_clean", "finger", "force", "time", "touch")
+        }
+        self._touches = 0
+        self._update = FitUpdate(None, 0.0, "too_few_contacts")
+        self._metrics = _NO_FIT_METRICS.copy()
+        self._progress = 1.0  # the quantity whose drop is the reward
+
+    @property
+    def truth(self) -> Superquadric | None:
+        """The ground truth of the episode (world frame), privileged."""
+        return self._truth
+
+    @property
+    def origin(self) -> Array:
+        """(3,) float, the object's rough position [m, world]: origin of the object frame."""
+        return self._origin.copy()
+
+    @property
+    def estimate(self) -> Superquadric | None:
+        """The current estimate (world frame), None before the first fit."""
+        return self._update.estimate
+
+    @property
+    def contacts(self):  # noqa: ANN201 - hapticsim.data.io.Contacts
+        """All contacts so far as :class:`hapticsim.data.io.Contacts` (world frame), with extra
+        arrays ``points_clean``, ``normals_clean``, ``finger``, ``force`` [N], ``time`` [s] and
+        ``touch`` (index of the touch that made each contact)."""
+        from hapticsim.data.io import Contacts
+
+        pts, nrm = self._stacked()
+        extra = {
+            k: (np.concatenate(v) if v else np.zeros((0, 3) if "_clean" in k else 0))
+            for k, v in self._extra.items()
+        }
+        return Contacts(points=pts, normals=nrm, extra=extra)
+
+    def _stacked(self) -> tuple[Array, Array]:
+        if not self._points:
+            return np.zeros((0, 3)), np.zeros((0, 3))
+        return np.concatenate(self._points), np.concatenate(self._normals)
+
+    # ------------------------------------------------------------------ gymnasium API
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """Start an episode on a new object (see the class docstring)."""
+        super().reset(seed=seed)
+        options = options or {}
+        shape = options.get("shape")
+        if shape is None:
+            shape = self.config.objects.sample(self.np_random)
+        elif not isinstance(shape, Superquadric):
+            raise InvalidInputError(
+                f"`options['shape']` must be a Superquadric, got {type(shape).__name__}"
+            )
+        self._clear()
+        self._fitter.reset()
+        self._truth = self._backend.reset(shape, self.np_random)
+        self._origin = self._truth.center + self.np_random.normal(
+            0.0, self.config.position_noise, size=3
+        )
+        info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
+        return self._observation(), info
+
+    def step(
+        self, action: np.ndarray
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        """One touch, a refit and the reward (see the class docstring)."""
+        if self._truth is None:
+            raise InvalidInputError("call `reset` before `step`")
+        start = time.perf_counter()
+        touch = decode_action(
+            action, self.config.max_stroke, self.config.stroke_spacing, self.n_fingers
+        )
+        result = self._backend.touch(touch, self._origin)
+        if len(result):
+            self._points.append(result.points)
+            self._normals.append(result.normals)
+            for k in ("points_clean", "normals_clean", "finger", "force", "time"):
+                self._extra[k].append(getattr(result, k))
+            self._extra["touch"].append(np.full(len(result), self._touches, np.int64))
+        self._touches += 1
+
+        pts, nrm = self._stacked()
+        self._update = self._fitter.update(pts, nrm, self.np_random, new_contacts=len(result) > 0)
+        metric_start = time.perf_counter()
+        if self.config.compute_metrics:
+            self._metrics = self._score(self._update.estimate)
+        metric_seconds = time.perf_counter() - metric_start
+
+        progress = self._progress_value(pts)
+        reward = float(self._progress - progress)
+        self._progress = progress
+        terminated = bool(
+            self.config.target_epsilon is not None
+            and self._metrics["epsilon"] <= self.config.target_epsilon
+        )
+        truncated = self._touches >= self.config.touch_budget
+        info = self._info(result, self._update.seconds, metric_seconds, time.perf_counter() - start)
+        return self._observation(), reward, terminated, bool(truncated), info
+
+    def render(self) -> NDArray[np.uint8] | None:
+        """An RGB picture (``render_mode="rgb_array"``): truth, estimate and contacts."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
+            return None
+        if self._truth is None:
+            raise InvalidInputError("call `reset` before `render`")
+        pts, _ = self._stacked()
+        return self._backend.render(self.estimate, pts, self.config.width, self.config.height)
+
+    def close(self) -> None:
+        """Free the backend (simulation and renderer)."""
+        self._backend.close()
+        super().close()
+
+    # ------------------------------------------------------------------ internals
+    def _score(self, estimate: Superquadric | None) -> dict[str, float]:
+        if estimate is None:
+            return _NO_FIT_METRICS.copy()
+        from hapticsim.metrics import score
+
+        kwargs = {} if self.config.metric_samples is None else {
+            "samples": self.config.metric_samples
+        }  # fmt: skip
+        s = score(estimate, self._truth, rng=0, **kwargs)
+        return {
+            "alpha": float(s.alpha), "beta": float(s.beta), "epsilon": float(s.epsilon),
+            "iou": float(s.iou), "chamfer": float(s.chamfer),
+        }  # fmt: skip
+
+    def _progress_value(self, points: Array) -> float:
+        estimate = self._update.estimate
+        if self.config.reward == "epsilon":
+            return self._metrics["epsilon"]
+        if self.config.reward == "uncertainty":
+            return coverage_uncertainty(estimate, points)
+        if estimate is None:
+            return 1.0
+        return float(min(1.0, np.sqrt(self._update.eof) / float(np.mean(estimate.a))))
+
+    def _observation(self) -> dict[str, np.ndarray]:
+        m, s = self.config.max_contacts, self.config.obs_scale
+        pts, nrm = self._stacked()
+        k = min(len(pts), m)
+        points = np.zeros((m, 3), np.float32)
+        normals = np.zeros((m, 3), np.float32)
+        mask = np.zeros(m, np.int8)
+        points[:k] = np.clip((pts[:k] - self._origin) / s, -OBS_BOUND, OBS_BOUND)
+        normals[:k] = np.clip(nrm[:k], -1.0, 1.0)
+        mask[:k] = 1
+        estimate = self._update.estimate
+        eof = np.sqrt(max(self._update.eof, 0.0)) / s if estimate is not None else 0.0
+        return {
+            "points": points,
+            "normals": normals,
+            "mask": mask,
+            "fit": encode_fit(estimate, self._origin, s),
+            "fit_valid": np.array([estimate is not None], np.int8),
+            "eof": np.array([min(eof, OBS_BOUND)], np.float32),
+            "touches": np.array([self._touches], np.float32),
+        }
+
+    def _info(
+        self, result: TouchResult, fit_seconds: float, metric_seconds: float, step_seconds: float
+    ) -> dict[str, Any]:
+        pts, _ = self._stacked()
+        info: dict[str, Any] = dict(self._metrics)
+        info.update(
+            n_contacts=len(pts),
+            new_contacts=len(result),
+            touch_status=result.status,
+            fit_status=self._update.status,
+            fit_eof=float(self._update.eof),
+            fit_evaluations=int(self._update.evaluations),
+            timings=StepTimings(
+                float(result.seconds),
+                float(fit_seconds),
+                float(metric_seconds),
+                float(step_seconds),
+            ),
+            estimate=self._update.estimate,
+            truth=self._truth,
+            origin=self._origin.copy(),
+        )
+        if self.config.reward == "uncertainty":
+            info["uncertainty"] = self._progress
+        return info
+
+
+_NO_FIT_METRICS: dict[str, float] = {
+    "alpha": 0.0, "beta": 1.0, "epsilon": 1.0, "iou": 0.0, "chamfer": float("inf"),
+}  # fmt: skip

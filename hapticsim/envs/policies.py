@@ -1,0 +1,350 @@
+"""Baseline exploration policies for ``hapticsim/HapticExplore-v0``, and an episode runner.
+
+A policy sees only the observation (and the environment's public configuration: length scale,
+stroke length, finger count, budget), never the ground truth:
+
+- :class:`RandomPolicy`: uniform random touches.
+- :class:`PaperPolicy`: the paper's scripted pattern (Bierbaum et al., III-A): a thumb patch at a
+  top corner, fingers stroking across the side faces and over the top edges, strokes across the
+  vertical edges; open loop, the same 20 touches for every object.
+- :class:`UncertaintyPolicy`: touch where the current estimate is least supported by contacts:
+  among candidate approach directions, the one whose predicted contact (ray cast on the
+  estimate) lies farthest from every contact so far, then stroke towards the least supported
+  neighbourhood. Before the first fit, a sphere around the rough position stands in for the
+  estimate.
+
+All take ``rng`` (seed or generator) and are deterministic given it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.envs.analytic import raycast_many
+from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv, decode_fit, fibonacci_sphere
+from hapticsim.envs.touch import encode_touch, tangent_frame
+from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.geometry import Superquadric
+
+Array = NDArray[np.float64]
+Observation = dict[str, np.ndarray]
+
+#: Names of the baseline policies (:func:`make_policy`).
+POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty")
+
+
+class Policy:
+    """A policy: ``action = policy(observation)``; :meth:`reset` at each episode start.
+
+    Args:
+        env: the environment (unwrapped or wrapped); only its configuration is read.
+        rng: seed or generator of the policy's own random choices.
+    """
+
+    name = "policy"
+
+    def __init__(self, env: Any, rng: np.random.Generator | int | None = None) -> None:
+        base: HapticExploreEnv = env.unwrapped
+        self.config = base.config
+        self.n_fingers = base.n_fingers
+        self.action_space = base.action_space
+        self.rng = np.random.default_rng(rng)
+
+    def reset(self, rng: np.random.Generator | int | None = None) -> None:
+        """Start a new episode (reseed when `rng` is given)."""
+        if rng is not None:
+            self.rng = np.random.default_rng(rng)
+
+    def __call__(self, obs: Observation) -> NDArray[np.float32]:
+        raise NotImplementedError
+
+    def _action(
+        self, approach: Array, stroke_angle: float, stroke_fraction: float, finger: int
+    ) -> NDArray[np.float32]:
+        return encode_touch(
+            approach, stroke_angle, stroke_fraction * self.config.max_stroke, finger,
+            self.config.max_stroke, self.n_fingers,
+        )  # fmt: skip
+
+
+class RandomPolicy(Policy):
+    """Uniformly random actions: approach directions uniform on the sphere, any stroke."""
+
+    name = "random"
+
+    def __call__(self, obs: Observation) -> NDArray[np.float32]:
+        return self.rng.uniform(-1.0, 1.0, size=self.action_space.shape).astype(np.float32)
+
+
+def _direction(azimuth_deg: float, elevation_deg: float) -> Array:
+    az, el = np.radians(azimuth_deg), np.radians(elevation_deg)
+    return np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+
+
+#: The paper pattern: (azimuth [deg], elevation [deg], stroke angle [deg], stroke length as a
+#: fraction of ``max_stroke``, finger: 0 thumb, 1 index, 2 middle, 3 ring, clipped to the hand).
+PAPER_PATTERN: tuple[tuple[float, float, float, float, int], ...] = (
+    # thumb patch at the (+x, +y, +z) corner: short strokes around the corner direction
+    (45, 35, 90, 0.4, 0), (45, 35, -90, 0.4, 0), (30, 25, 0, 0.4, 0), (60, 25, 180, 0.4, 0),
+    # three fingers side by side across the +x face, up and over the top edge
+    (0, 10, 90, 1.0, 1), (15, 10, 90, 1.0, 2), (-15, 10, 90, 1.0, 3),
+    # and across the +y face
+    (90, 10, 90, 1.0, 1), (75, 10, 90, 1.0, 2), (105, 10, 90, 1.0, 3),
+    # strokes across the vertical edges, around the object
+    (45, 0, 0, 1.0, 1), (135, 0, 0, 1.0, 2), (-135, 0, 0, 1.0, 1), (-45, 0, 0, 1.0, 2),
+    # the opposite faces, up over the top edges
+    (180, 10, 90, 1.0, 1), (-90, 10, 90, 1.0, 2),
+    # the opposite corner and the top
+    (-135, 35, 90, 0.4, 0), (-135, 35, -90, 0.4, 0), (0, 90, 0, 1.0, 1), (0, 90, 90, 1.0, 2),
+)  # fmt: skip
+
+
+class PaperPolicy(Policy):
+    """The paper's exploration pattern as a fixed sequence of touches (:data:`PAPER_PATTERN`).
+
+    A thumb patch at a top corner disambiguates the tapering, strokes crossing edges and adjacent
+    faces fix extents and shape exponents (paper III-A, "a thumb touching the cube's corner while
+    moving three fingers in parallel across its side face"). The sequence repeats after 20
+    touches. Open loop: it ignores the observation.
+    """
+
+    name = "paper"
+
+    def reset(self, rng: np.random.Generator | int | None = None) -> None:  # noqa: D102
+        super().reset(rng)
+        self._index = 0
+
+    def __init__(self, env: Any, rng: np.random.Generator | int | None = None) -> None:
+        super().__init__(env, rng)
+        self._index = 0
+
+    def __call__(self, obs: Observation) -> NDArray[np.float32]:
+        touches = int(round(float(obs["touches"][0])))
+        az, el, psi, frac, finger = PAPER_PATTERN[touches % len(PAPER_PATTERN)]
+        return self._action(_direction(az, el), np.radians(psi), frac, finger)
+
+
+@dataclass(frozen=True)
+class _Candidates:
+    approach: Array  # (k, 3) approach directions
+    points: Array  # (k, 3) predicted first contacts, object-centred frame [m]
+
+
+class UncertaintyPolicy(Policy):
+    """Touch where the current estimate is least supported by the contacts so far.
+
+    Each step: ``n_candidates`` approach directions (a Fibonacci sphere, turned by a random
+    rotation from the policy's rng) are ray cast onto the estimate decoded from the observation
+    (before the first fit: a sphere about the rough position, of radius ``initial_radius``, or the
+    contacts' mean distance from it once there are some). Directions whose predicted contact lies
+    within ``table_margin`` of the estimate's bottom (probably the table) or within
+    ``failed_cone`` of a direction that brought no contact are dropped. The policy picks the
+    direction whose predicted contact is farthest from all contacts, then the stroke direction
+    (of 8) whose predicted end point is farthest from all contacts, and strokes the full length.
+
+    Args:
+        env: the environment (configuration only).
+        rng: seed or generator.
+        n_candidates: approach directions tried per step.
+        initial_radius: radius of the stand-in sphere before the first fit [m].
+        table_margin: fraction of the estimate's height above its bottom treated as unreachable.
+        failed_cone: half-angle of the cone around a failed approach that is avoided [rad].
+    """
+
+    name = "uncertainty"
+
+    def __init__(
+        self,
+        env: Any,
+        rng: np.random.Generator | int | None = None,
+        n_candidates: int = 96,
+        initial_radius: float = 0.04,
+        table_margin: float = 0.15,
+        failed_cone: float = 0.35,
+    ) -> None:
+        super().__init__(env, rng)
+        if n_candidates < 4:
+            raise InvalidInputError(f"`n_candidates` must be >= 4, got {n_candidates}")
+        self.n_candidates = int(n_candidates)
+        self.initial_radius = float(initial_radius)
+        self.table_margin = float(table_margin)
+        self.failed_cone = float(failed_cone)
+        self._sphere = fibonacci_sphere(self.n_candidates)
+        self._failed: list[Array] = []
+        self._last: Array | None = None
+        self._last_count = 0
+        self._finger = 0
+
+    def reset(self, rng: np.random.Generator | int | None = None) -> None:  # noqa: D102
+        super().reset(rng)
+        self._failed = []
+        self._last = None
+        self._last_count = 0
+        self._finger = 0
+
+    def _contacts(self, obs: Observation) -> Array:
+        mask = np.asarray(obs["mask"], dtype=bool)
+        return np.asarray(obs["points"], dtype=np.float64)[mask] * self.config.obs_scale
+
+    def _estimate(self, obs: Observation, contacts: Array) -> Superquadric:
+        if int(obs["fit_valid"][0]):
+            try:
+                return decode_fit(obs["fit"], self.config.obs_scale)
+            except HapticsimError:
+                pass
+        r = float(np.mean(np.linalg.norm(contacts, axis=1))) if len(contacts) else 0.0
+        r = max(r, 0.25 * self.initial_radius) if len(contacts) else self.initial_radius
+        return Superquadric(a=(r, r, r), eps=(1.0, 1.0))
+
+    def _candidates(self, estimate: Superquadric) -> _Candidates:
+        from hapticsim.geometry import random_rotation
+
+        dirs = self._sphere @ random_rotation(self.rng).T
+        far = 3.0 * estimate.bounding_radius + 2.0 * float(np.linalg.norm(estimate.center))
+        s = raycast_many(estimate, far * dirs, -dirs, 2.0 * far)
+        ok = ~np.isnan(s)
+        return _Candidates(dirs[ok], far * dirs[ok] - s[ok, None] * dirs[ok])
+
+    def __call__(self, obs: Observation) -> NDArray[np.float32]:
+        contacts = self._contacts(obs)
+        if self._last is not None and len(contacts) == self._last_count:
+            self._failed.append(self._last)  # the previous touch brought nothing
+        estimate = self._estimate(obs, contacts)
+        cand = self._candidates(estimate)
+        keep = np.ones(len(cand.points), dtype=bool)
+        if int(obs["fit_valid"][0]):
+            surf = estimate.surface(
+                np.linspace(-np.pi / 2, np.pi / 2, 25).repeat(24),
+                np.tile(np.linspace(-np.pi, np.pi, 24), 25),
+            )[0]
+            bottom, top = float(surf[:, 2].min()), float(surf[:, 2].max())
+            keep &= cand.points[:, 2] > bottom + self.table_margin * (top - bottom)
+        elif len(contacts):
+            keep &= cand.approach[:, 2] > -0.5
+        for d in self._failed:
+            keep &= cand.approach @ d < np.cos(self.failed_cone)
+        if not np.any(keep):
+            keep = np.ones(len(cand.points), dtype=bool)
+        approach, points = cand.approach[keep], cand.points[keep]
+        gap = _distance_to_set(points, contacts)
+        best = int(np.argmax(gap + 1e-9 * self.rng.random(len(gap))))
+        p, d = points[best], approach[best]
+
+        # Stroke towards the least supported neighbourhood of the chosen contact.
+        normal = estimate.normals(p[None, :])[0]
+        t_h, t_v = tangent_frame(normal)
+        angles = np.linspace(-np.pi, np.pi, 8, endpoint=False)
+        ends = p + self.config.max_stroke * (
+            np.cos(angles)[:, None] * t_h + np.sin(angles)[:, None] * t_v
+        )
+        ends = estimate.project(ends)
+        psi = float(angles[int(np.argmax(_distance_to_set(ends, contacts)))])
+        self._last, self._last_count = d, len(contacts)
+        self._finger = (self._finger + 1) % self.n_fingers
+        return self._action(d, psi, 1.0, self._finger)
+
+
+def _distance_to_set(points: Array, contacts: Array) -> Array:
+    """(k,) float, distance of each point to its nearest contact [m] (inf without contacts)."""
+    if len(contacts) == 0:
+        return np.full(len(points), np.inf)
+    d2 = np.sum((points[:, None, :] - contacts[None, :, :]) ** 2, axis=-1)
+    return np.sqrt(d2.min(axis=1))
+
+
+POLICIES: dict[str, type[Policy]] = {
+    "random": RandomPolicy,
+    "paper": PaperPolicy,
+    "uncertainty": UncertaintyPolicy,
+}
+
+
+def make_policy(name: str, env: Any, rng: np.random.Generator | int | None = None) -> Policy:
+    """A baseline policy by name (one of :data:`POLICY_NAMES`)."""
+    if name not in POLICIES:
+        raise InvalidInputError(f"`name` must be one of {POLICY_NAMES}, got {name!r}")
+    return POLICIES[name](env, rng)
+
+
+@dataclass(frozen=True)
+class EpisodeRecord:
+    """One episode of a policy.
+
+    Attributes:
+        epsilon: (T,) float, epsilon after each touch (1 before the first fit).
+        iou: (T,) float, IoU after each touch.
+        n_contacts: (T,) int, contacts after each touch.
+        step_seconds: (T,) float, wall-clock time of each step [s].
+        ret: the episode's return.
+    """
+
+    epsilon: Array
+    iou: Array
+    n_contacts: NDArray[np.int64]
+    step_seconds: Array
+    ret: float
+
+
+def run_episode(
+    env: Any,
+    policy: Policy | Callable[[Observation], np.ndarray],
+    seed: int,
+    policy_seed: int | None = None,
+    options: dict[str, Any] | None = None,
+) -> EpisodeRecord:
+    """Run one episode to its end and record the metrics after each touch.
+
+    Args:
+        env: the environment (compute_metrics on).
+        policy: a :class:`Policy` (reset with `policy_seed`) or any callable obs -> action.
+        seed: the environment's seed (selects the object, noise and fits).
+        policy_seed: seed of the policy's own randomness (default: `seed`).
+        options: passed to ``env.reset``.
+    """
+    obs, _ = env.reset(seed=seed, options=options)
+    if isinstance(policy, Policy):
+        policy.reset(seed if policy_seed is None else policy_seed)
+    eps: list[float] = []
+    iou: list[float] = []
+    count: list[int] = []
+    secs: list[float] = []
+    ret = 0.0
+    done = False
+    while not done:
+        obs, reward, terminated, truncated, info = env.step(policy(obs))
+        ret += float(reward)
+        eps.append(info["epsilon"])
+        iou.append(info["iou"])
+        count.append(info["n_contacts"])
+        secs.append(info["timings"].step)
+        done = terminated or truncated
+    return EpisodeRecord(
+        np.asarray(eps), np.asarray(iou), np.asarray(count, dtype=np.int64), np.asarray(secs), ret
+    )
+
+
+def summarize(records: Sequence[EpisodeRecord], budget: int) -> dict[str, Array]:
+    """Mean, standard deviation, median and quartiles of epsilon after N = 1..budget touches.
+
+    Episodes that ended early keep their last epsilon.
+
+    Returns:
+        dict of (budget,) arrays: ``mean``, ``std``, ``median``, ``q25``, ``q75``.
+    """
+    table = np.empty((len(records), budget))
+    for i, r in enumerate(records):
+        e = r.epsilon[:budget]
+        table[i, : len(e)] = e
+        table[i, len(e) :] = e[-1] if len(e) else 1.0
+    return {
+        "mean": table.mean(axis=0),
+        "std": table.std(axis=0),
+        "median": np.median(table, axis=0),
+        "q25": np.quantile(table, 0.25, axis=0),
+        "q75": np.quantile(table, 0.75, axis=0),
+    }

@@ -1,0 +1,130 @@
+"""Offscreen MuJoCo pictures of an exploration: truth, current estimate and contacts.
+
+Used by the analytic backend's ``render`` (the MuJoCo backend renders its own scene with the hand).
+Headless: set ``MUJOCO_GL=egl`` (or ``osmesa``) before MuJoCo is imported.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.geometry import Superquadric
+
+Array = NDArray[np.float64]
+
+#: Colours (RGBA) of the truth, the estimate, the contacts and the table.
+TRUTH_RGBA = (0.72, 0.72, 0.72, 1.0)
+ESTIMATE_RGBA = (0.2, 0.45, 0.95, 0.35)
+CONTACT_RGBA = (0.95, 0.15, 0.1, 1.0)
+TABLE_RGBA = (0.55, 0.45, 0.35, 1.0)
+#: Radius of a contact marker [m].
+CONTACT_RADIUS = 0.0025
+
+
+def _add_mesh(spec, name: str, shape: Superquadric, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
+    import mujoco
+
+    mesh = shape.to_mesh(resolution=40)
+    spec.add_mesh(
+        name=name,
+        uservert=np.asarray(mesh.vertices).ravel().tolist(),
+        userface=np.asarray(mesh.faces).ravel().tolist(),
+    )
+    spec.worldbody.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, rgba=list(rgba), contype=0, conaffinity=0
+    )
+
+
+def add_markers(scene, points: Array, rgba: tuple[float, ...] = CONTACT_RGBA) -> None:  # noqa: ANN001
+    """Append sphere markers at (n, 3) world `points` [m] to an ``mujoco.MjvScene``."""
+    import mujoco
+
+    size = np.array([CONTACT_RADIUS, 0.0, 0.0])
+    mat = np.eye(3).ravel()
+    color = np.asarray(rgba, dtype=np.float32)
+    for p in np.asarray(points, dtype=np.float64).reshape(-1, 3):
+        if scene.ngeom >= scene.maxgeom:
+            break
+        mujoco.mjv_initGeom(
+            scene.geoms[scene.ngeom], mujoco.mjtGeom.mjGEOM_SPHERE, size, p, mat, color
+        )
+        scene.ngeom += 1
+
+
+class SceneRenderer:
+    """Renders truth + estimate + contacts with MuJoCo's offscreen renderer.
+
+    Args:
+        width, height: picture size [pixels].
+    """
+
+    def __init__(self, width: int = 480, height: int = 360) -> None:
+        self.width = int(width)
+        self.height = int(height)
+        self._key: tuple | None = None
+        self._model = None
+        self._data = None
+        self._renderer = None
+
+    def _build(self, truth: Superquadric, estimate: Superquadric | None, table_z: float) -> None:
+        import mujoco
+
+        spec = mujoco.MjSpec()
+        spec.visual.global_.offwidth = max(self.width, 640)
+        spec.visual.global_.offheight = max(self.height, 480)
+        spec.worldbody.add_light(pos=[0.3, -0.3, 1.0], dir=[-0.3, 0.3, -1.0], diffuse=[0.8] * 3)
+        spec.worldbody.add_light(pos=[-0.3, 0.3, 1.0], dir=[0.3, -0.3, -1.0], diffuse=[0.4] * 3)
+        if np.isfinite(table_z):
+            spec.worldbody.add_geom(
+                type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.3, 0.3, 0.01],
+                pos=[truth.center[0], truth.center[1], table_z], rgba=list(TABLE_RGBA),
+            )  # fmt: skip
+        _add_mesh(spec, "truth", truth, TRUTH_RGBA)
+        if estimate is not None:
+            _add_mesh(spec, "estimate", estimate, ESTIMATE_RGBA)
+        self._model = spec.compile()
+        self._data = mujoco.MjData(self._model)
+        mujoco.mj_forward(self._model, self._data)
+        if self._renderer is not None:
+            self._renderer.close()
+        self._renderer = mujoco.Renderer(self._model, self.height, self.width)
+
+    def render(
+        self,
+        truth: Superquadric,
+        estimate: Superquadric | None,
+        points: Array,
+        table_z: float = -np.inf,
+    ) -> NDArray[np.uint8]:
+        """The picture, (height, width, 3) uint8.
+
+        Args:
+            truth: the ground truth (grey).
+            estimate: the current fit (translucent blue), or None.
+            points: (n, 3) float, contact points [m, world] (red spheres).
+            table_z: height of the table top [m], ``-inf`` for none.
+        """
+        import mujoco
+
+        key = (id(truth), id(estimate), float(table_z))
+        if self._key != key or self._renderer is None:
+            self._build(truth, estimate, table_z)
+            self._key = key
+        cam = mujoco.MjvCamera()
+        cam.lookat[:] = truth.center
+        cam.distance = 4.0 * truth.bounding_radius + 0.05
+        cam.azimuth = 135.0
+        cam.elevation = -30.0
+        self._renderer.update_scene(self._data, cam)
+        add_markers(self._renderer.scene, points)
+        return self._renderer.render().copy()
+
+    def close(self) -> None:
+        """Free the OpenGL context."""
+        if self._renderer is not None:
+            self._renderer.close()
+        self._renderer = None
+        self._model = None
+        self._data = None
+        self._key = None
