@@ -34,7 +34,9 @@ def finite_array(value: Any, name: str, shape: tuple[int | None, ...]) -> NDArra
         InvalidInputError: wrong shape, not numeric, or NaN/inf entries.
     """
     arr = as_float_array(value, name)
-    ok = arr.ndim == len(shape) and all(s is None or s == d for s, d in zip(shape, arr.shape))
+    ok = arr.ndim == len(shape) and all(
+        s is None or s == d for s, d in zip(shape, arr.shape, strict=False)
+    )
     if not ok:
         want = "(" + ", ".join("n" if s is None else str(s) for s in shape)
         want += ",)" if len(shape) == 1 else ")"
@@ -48,9 +50,7 @@ def points_array(value: Any, name: str = "points", min_count: int = 0) -> NDArra
     """An (n, 3) finite float array with at least `min_count` rows."""
     arr = finite_array(value, name, (None, 3))
     if arr.shape[0] < min_count:
-        raise InvalidInputError(
-            f"`{name}` must hold at least {min_count} rows, got {arr.shape[0]}"
-        )
+        raise InvalidInputError(f"`{name}` must hold at least {min_count} rows, got {arr.shape[0]}")
     return arr
 
 
@@ -86,5 +86,34 @@ def finite_float(value: Any, name: str, low: float = -np.inf, high: float = np.i
     except (TypeError, ValueError) as exc:
         raise InvalidInputError(f"`{name}` must be a number, got {value!r}") from exc
     if not np.isfinite(out) or out < low or out > high:
-        raise InvalidInputError(f"`{name}` must be a finite number in [{low}, {high}], got {value!r}")
+        raise InvalidInputError(
+            f"`{name}` must be a finite number in [{low}, {high}], got {value!r}"
+        )
     return out
+
+
+def as_generator(rng: Any, name: str = "rng") -> np.random.Generator:
+    """A ``numpy.random.Generator`` from a Generator (returned as is), a seed >= 0, or None.
+
+    Raises:
+        InvalidInputError: anything else (floats, negative seeds, bools, the legacy RandomState).
+    """
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if rng is None:
+        return np.random.default_rng()
+    if isinstance(rng, bool) or not isinstance(rng, (int, np.integer)) or rng < 0:
+        raise InvalidInputError(
+            f"`{name}` must be a numpy.random.Generator, a non-negative int seed or None, "
+            f"got {rng!r}"
+        )
+    return np.random.default_rng(int(rng))
+
+
+def superquadric_arg(value: Any, name: str) -> Any:
+    """`value` if it is a :class:`~hapticsim.geometry.Superquadric`, else InvalidInputError."""
+    from hapticsim.geometry.superquadric import Superquadric
+
+    if not isinstance(value, Superquadric):
+        raise InvalidInputError(f"`{name}` must be a Superquadric, got {type(value).__name__}")
+    return value

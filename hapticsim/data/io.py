@@ -66,14 +66,48 @@ def _atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> 
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise InvalidInputError(f"cannot write {path}: directory {parent} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
     try:
         with os.fdopen(fd, mode) as fh:
             write(fh)
         os.replace(tmp, path)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+    return path
+
+
+def _read_text(path: Path) -> str:
+    """The text of a file; unreadable or non-UTF-8 files raise InvalidInputError."""
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise InvalidInputError(f"{path} is not a UTF-8 text file ({exc.reason})") from exc
+    except OSError as exc:
+        raise InvalidInputError(f"cannot read {path}: {exc.strerror or exc}") from exc
+
+
+def check_output_path(path: str | Path, suffixes: tuple[str, ...] | None = None) -> Path:
+    """Check, before any work is done, that `path` can be written: its directory exists, it is
+    not a directory, and it ends in one of `suffixes` (any suffix when None).
+
+    Raises:
+        InvalidInputError: naming the path and the problem.
+    """
+    path = Path(path)
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise InvalidInputError(f"output file must end in one of {suffixes}, got {path.name!r}")
+    if path.is_dir():
+        raise InvalidInputError(f"cannot write {path}: it is a directory")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InvalidInputError(f"cannot write {path}: directory {parent} does not exist")
     return path
 
 
@@ -96,13 +130,15 @@ def read_json(path_or_text: str | Path) -> Any:
         path = Path(path_or_text)
         if not path.is_file():
             raise InvalidInputError(f"file not found: {path}")
-        text, where = path.read_text(), str(path)
+        text, where = _read_text(path), str(path)
     if not text.strip():
         raise InvalidInputError(f"{where} is empty")
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:
-        raise InvalidInputError(f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}") from exc
+        raise InvalidInputError(
+            f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}"
+        ) from exc
 
 
 def read_contacts(path: str | Path) -> Contacts:
@@ -146,14 +182,12 @@ def _read_npz(path: Path) -> Contacts:
 
 
 def _read_csv(path: Path) -> Contacts:
-    lines = path.read_text().splitlines()
+    lines = _read_text(path).splitlines()
     if not lines:
         raise InvalidInputError(f"contacts file is empty: {path}")
     header = [h.strip().lower() for h in lines[0].split(",")]
     if header not in (["x", "y", "z"], ["x", "y", "z", "nx", "ny", "nz"]):
-        raise InvalidInputError(
-            f"{path}: header must be x,y,z or x,y,z,nx,ny,nz, got {lines[0]!r}"
-        )
+        raise InvalidInputError(f"{path}: header must be x,y,z or x,y,z,nx,ny,nz, got {lines[0]!r}")
     rows = [ln for ln in lines[1:] if ln.strip()]
     if not rows:
         raise InvalidInputError(f"{path} has a header but no contacts")
@@ -202,6 +236,7 @@ def as_points_normals(
 __all__ = [
     "Contacts",
     "as_points_normals",
+    "check_output_path",
     "finite_array",
     "read_contacts",
     "read_json",
