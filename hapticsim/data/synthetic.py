@@ -1,0 +1,155 @@
+"""Synthetic haptic exploration data sets of the paper (Section III-A, SPEC §5).
+
+A data set merges stripes and patches (:mod:`hapticsim.data.patterns`) placed like the fingertips
+of a hand during a short exploration after a first touch, then adds Gaussian noise
+(:mod:`hapticsim.data.noise`). Patterns are given in the body frame by the spherical angles of the
+uniform parametrisation (eq. 6): in scaled coordinates ``(x/a1, y/a2, z/a3)`` a direction
+``(eta, omega)`` is ``(cos eta cos omega, cos eta sin omega, sin eta)``, so the face centres of a
+box are at ``omega = 0, pi/2, ...`` (``eta = 0``) and ``eta = +-pi/2``, and its corners at
+``omega = +-pi/4, +-3pi/4``, ``eta = +-atan(1/sqrt 2)``, whatever the semi-axes and the taper.
+
+Prismatic bodies (``eps1 < 0.5``: boxes, cylinders), a grasp-like exploration:
+
+- thumb: a patch on the corner (-x, -y, +z), covering the three faces that meet there;
+- index, middle, ring fingers: three parallel stripes sweeping the opposite side face +x from
+  bottom to top, crossing its lower and upper edges onto the faces -z and +z;
+- little finger: a slanted stripe from the +x face around the vertical edge onto the +y face,
+  rising as it goes.
+
+Every pair of opposite faces is touched on both sides, so the extents are determined, and the
+side faces are touched over a range of heights (the thumb's corner against the fingers' sweep),
+so the taper is too. Most of the surface is never touched: the -x and -y faces are only touched
+near the thumb's corner, and neither the bottom face nor the other corners are explored.
+
+Round bodies (``eps1 >= 0.5``, the ellipsoid): patches only, a thumb on the -x side opposed by
+index and middle fingertips on the +x side, one above and one below the equator.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import as_generator, finite_float, positive_int, superquadric_arg
+from hapticsim.data.io import Contacts
+from hapticsim.data.noise import add_noise
+from hapticsim.data.patterns import Patch, Pattern, Stripe, render
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import N_PARAMS, Superquadric
+
+Array = NDArray[np.float64]
+
+#: Smallest data set: one contact per model parameter (13).
+MIN_COUNT: int = N_PARAMS
+#: eps1 below which a body counts as prismatic (flat faces and edges, paper III-A).
+PRISMATIC_EPS1: float = 0.5
+#: Latitude of a box corner in the uniform parametrisation: atan(1/sqrt(2)) [rad].
+CORNER_ETA: float = float(np.arctan(1.0 / np.sqrt(2.0)))
+
+_D = np.pi / 180.0  # one degree [rad]
+
+# (name, weight, factory(count) -> pattern). Weights set each pattern's share of the contacts.
+_PRISMATIC: tuple[tuple[str, float, Any], ...] = (
+    (
+        "thumb_corner",
+        0.34,
+        lambda n: Patch(
+            eta=(CORNER_ETA - 20 * _D, CORNER_ETA + 20 * _D),
+            omega=(-135 * _D - 22 * _D, -135 * _D + 22 * _D),
+            count=n,
+        ),
+    ),
+    ("index_stripe", 0.17, lambda n: Stripe((-62 * _D, -17 * _D), (62 * _D, -17 * _D), n)),
+    ("middle_stripe", 0.17, lambda n: Stripe((-62 * _D, 0.0), (62 * _D, 0.0), n)),
+    ("ring_stripe", 0.17, lambda n: Stripe((-62 * _D, 17 * _D), (62 * _D, 17 * _D), n)),
+    ("little_stripe", 0.15, lambda n: Stripe((-35 * _D, 25 * _D), (20 * _D, 115 * _D), n)),
+)
+_ROUND: tuple[tuple[str, float, Any], ...] = (
+    ("thumb_patch", 0.34, lambda n: Patch((-25 * _D, 30 * _D), (150 * _D, 210 * _D), n)),
+    ("index_patch", 0.33, lambda n: Patch((10 * _D, 55 * _D), (-30 * _D, 30 * _D), n)),
+    ("middle_patch", 0.33, lambda n: Patch((-55 * _D, -10 * _D), (0.0, 65 * _D), n)),
+)
+
+
+def _allocate(count: int, weights: list[float]) -> list[int]:
+    """Split `count` by `weights` (largest remainder, ties to the earlier pattern)."""
+    share = count * np.asarray(weights) / np.sum(weights)
+    base = np.floor(share).astype(int)
+    order = np.argsort(-(share - base), kind="stable")
+    base[order[: count - int(base.sum())]] += 1
+    return [int(b) for b in base]
+
+
+def is_prismatic(truth: Superquadric) -> bool:
+    """True for bodies with flat faces and edges (``eps1 < 0.5``): stripes and a corner patch."""
+    return bool(superquadric_arg(truth, "truth").eps[0] < PRISMATIC_EPS1)
+
+
+def paper_patterns(truth: Superquadric, count: int = 150) -> tuple[tuple[str, Pattern], ...]:
+    """The named exploration patterns of :func:`paper_dataset` for a body (module docstring).
+
+    Args:
+        truth: the body; its eps1 selects the prismatic or the round layout.
+        count: total number of contacts, >= 13, split over the patterns by fixed shares.
+
+    Returns:
+        ``(name, pattern)`` pairs; the pattern id of a contact is the index in this tuple.
+    """
+    layout = _PRISMATIC if is_prismatic(truth) else _ROUND
+    n = positive_int(count, "count", minimum=MIN_COUNT)
+    counts = _allocate(n, [w for _, w, _ in layout])
+    return tuple((name, make(k)) for (name, _, make), k in zip(layout, counts, strict=True))
+
+
+def paper_dataset(
+    truth: Superquadric,
+    noise: float = 0.1,
+    rng: np.random.Generator | int | None = None,
+    count: int = 150,
+) -> Contacts:
+    """A synthetic exploration data set of `truth` with noise (paper III-A, SPEC §5).
+
+    The patterns are those of :func:`paper_patterns`, rendered with the uniform parametrisation
+    (eq. 6) in the body frame of `truth` and posed with it; then point noise of std
+    ``noise * mean(a)`` [m] and normal noise of std ``noise`` are added (SPEC §5). One generator
+    draws the patch directions first, then the point noise, then the normal noise: the same seed
+    gives the same arrays, bit for bit.
+
+    Args:
+        truth: the true superquadric.
+        noise: relative noise level sigma_N, finite and >= 0 (paper default 0.1).
+        rng: seed or generator.
+        count: number of contacts, >= 13 (paper default 150).
+
+    Returns:
+        Contacts with noisy ``points`` (count, 3) [m, world] and unit ``normals`` (count, 3), and
+        in ``extra``: ``points_clean`` and ``normals_clean`` (on the surface of `truth`) and
+        ``pattern`` (count,) int, the index of the contact's pattern in :func:`paper_patterns`.
+    """
+    truth = superquadric_arg(truth, "truth")
+    sigma = finite_float(noise, "noise", low=0.0)
+    if isinstance(count, (int, np.integer)) and not isinstance(count, bool) and count < MIN_COUNT:
+        raise InvalidInputError(
+            f"`count` must be >= {MIN_COUNT} (one contact per model parameter), got {count}"
+        )
+    patterns = [p for _, p in paper_patterns(truth, count)]
+    gen = as_generator(rng)
+    points_clean, normals_clean, pattern = render(truth, patterns, gen)
+    points, normals = add_noise(points_clean, normals_clean, sigma, float(np.mean(truth.a)), gen)
+    return Contacts(
+        points=points,
+        normals=normals,
+        extra={"points_clean": points_clean, "normals_clean": normals_clean, "pattern": pattern},
+    )
+
+
+__all__ = [
+    "CORNER_ETA",
+    "MIN_COUNT",
+    "PRISMATIC_EPS1",
+    "is_prismatic",
+    "paper_dataset",
+    "paper_patterns",
+]
