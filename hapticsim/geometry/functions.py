@@ -76,7 +76,10 @@ def world_to_body(points_world: Array, rotation: Array, center: Array) -> Array:
 def body_to_world(points_body: Array, rotation: Array, center: Array) -> Array:
     """``R p + x0`` for (..., n, 3) points."""
     center = np.asarray(center, dtype=np.float64)
-    return points_body @ np.swapaxes(rotation, -1, -2) + center[..., None, :]
+    # A contiguous copy of R^T: matmul with the transposed view of a read-only array (as a
+    # Superquadric holds) is ~30 times slower for (n, 3) points.
+    rotation_t = np.ascontiguousarray(np.swapaxes(rotation, -1, -2))
+    return points_body @ rotation_t + center[..., None, :]
 
 
 def log_inside_outside(points_sym: Array, a: Array, eps: Array) -> Array:
