@@ -42,6 +42,29 @@ def sphere_grid_faces(n_lat: int, n_lon: int) -> np.ndarray:
     return np.concatenate(faces)
 
 
+def surface_grid(
+    sq: Superquadric, resolution: int = 64, parametrization: str = "uniform"
+) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices and faces of :func:`superquadric_mesh` as arrays, without building a mesh.
+
+    Returns:
+        vertices (m, 3) float, world points on the surface [m], and faces (k, 3) int, outward
+        (counter-clockwise seen from outside: a proper rotation and tapering factors > 0 keep
+        the orientation of :func:`sphere_grid_faces`).
+    """
+    n_lon = positive_int(resolution, "resolution", minimum=8)
+    n_lat = max(n_lon // 2, 4)
+    eta = np.linspace(-np.pi / 2, np.pi / 2, n_lat + 1)[1:-1]
+    omega = np.linspace(-np.pi, np.pi, n_lon, endpoint=False)
+    ee, oo = np.meshgrid(eta, omega, indexing="ij")
+    ring_pts = parametrize(ee.ravel(), oo.ravel(), sq.a, sq.eps, parametrization)
+    poles = np.array([[0.0, 0.0, -sq.a[2]], [0.0, 0.0, sq.a[2]]])
+    sym = np.concatenate([poles[:1], ring_pts, poles[1:]])
+    body = fn.apply_taper(sym, sq.a, sq.taper)
+    world = fn.body_to_world(body, sq.rotation, sq.center)
+    return world, sphere_grid_faces(n_lat, n_lon)
+
+
 def superquadric_mesh(
     sq: Superquadric, resolution: int = 64, parametrization: str = "uniform"
 ) -> trimesh.Trimesh:
@@ -62,17 +85,8 @@ def superquadric_mesh(
     """
     import trimesh
 
-    n_lon = positive_int(resolution, "resolution", minimum=8)
-    n_lat = max(n_lon // 2, 4)
-    eta = np.linspace(-np.pi / 2, np.pi / 2, n_lat + 1)[1:-1]
-    omega = np.linspace(-np.pi, np.pi, n_lon, endpoint=False)
-    ee, oo = np.meshgrid(eta, omega, indexing="ij")
-    ring_pts = parametrize(ee.ravel(), oo.ravel(), sq.a, sq.eps, parametrization)
-    poles = np.array([[0.0, 0.0, -sq.a[2]], [0.0, 0.0, sq.a[2]]])
-    sym = np.concatenate([poles[:1], ring_pts, poles[1:]])
-    body = fn.apply_taper(sym, sq.a, sq.taper)
-    world = fn.body_to_world(body, sq.rotation, sq.center)
-    mesh = trimesh.Trimesh(world, sphere_grid_faces(n_lat, n_lon), process=False)
+    vertices, faces = surface_grid(sq, resolution, parametrization)
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
     if mesh.volume < 0:
         mesh.invert()
     return mesh

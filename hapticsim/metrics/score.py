@@ -1,0 +1,115 @@
+"""All quality measures of an estimate against the truth in one value (SPEC §4, §6)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from hapticsim._validate import as_generator, positive_int, superquadric_arg
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import Superquadric
+from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer
+from hapticsim.metrics.volume import DEFAULT_VOLUME_SAMPLES, volume_overlap
+
+
+@dataclass(frozen=True)
+class Score:
+    """Quality measures of an estimate S_e against the truth S_s (paper III-B, SPEC §4).
+
+    Attributes:
+        alpha: ``V(S_e \\ S_s) / V(S_e)``, false positives (eq. 11), in [0, 1].
+        beta: ``V(S_s \\ S_e) / V(S_s)``, false negatives (eq. 12), in [0, 1].
+        iou: ``V(S_e ∩ S_s) / V(S_e ∪ S_s)``, in [0, 1].
+        chamfer: symmetric Chamfer distance between the surfaces [m], >= 0
+            (:mod:`hapticsim.metrics.chamfer`).
+        volume_method: how the volumes were computed (SPEC §4 asks to state it).
+    """
+
+    alpha: float
+    beta: float
+    iou: float
+    chamfer: float
+    volume_method: str
+
+    def __post_init__(self) -> None:
+        for name in ("alpha", "beta", "iou", "chamfer"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+                raise InvalidInputError(f"`{name}` must be a number, got {value!r}")
+            high = np.inf if name == "chamfer" else 1.0
+            if not 0.0 <= value <= high:
+                raise InvalidInputError(f"`{name}` must lie in [0, {high}], got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if not isinstance(self.volume_method, str):
+            raise InvalidInputError(
+                f"`volume_method` must be a string, got {type(self.volume_method).__name__}"
+            )
+
+    @property
+    def epsilon(self) -> float:
+        """``alpha + beta`` (paper III-B)."""
+        return self.alpha + self.beta
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``alpha, beta, epsilon, iou, chamfer`` (SPEC §6) and ``volume_method``."""
+        return {
+            "alpha": self.alpha,
+            "beta": self.beta,
+            "epsilon": self.epsilon,
+            "iou": self.iou,
+            "chamfer": self.chamfer,
+            "volume_method": self.volume_method,
+        }
+
+
+def score(
+    estimate: Superquadric,
+    truth: Superquadric,
+    rng: np.random.Generator | int | None = 0,
+    volume_samples: int = DEFAULT_VOLUME_SAMPLES,
+    chamfer_samples: int = DEFAULT_CHAMFER_SAMPLES,
+) -> Score:
+    """alpha, beta, epsilon, IoU and Chamfer distance of `estimate` against `truth`.
+
+    Volumes by Monte Carlo (:func:`~hapticsim.metrics.volume.volume_overlap`): with the default
+    100 000 points per solid, alpha and beta are within 0.005 of their exact values at three
+    standard errors, tapered and posed shapes alike. One generator draws the volume samples, then
+    the Chamfer samples; the default seed 0 makes the score of a pair reproducible.
+
+    Args:
+        estimate: the estimated superquadric S_e.
+        truth: the true superquadric S_s.
+        rng: seed or generator.
+        volume_samples: points drawn inside each solid, >= 1.
+        chamfer_samples: points drawn on each surface, >= 1.
+
+    Returns:
+        The :class:`Score`.
+    """
+    estimate = superquadric_arg(estimate, "estimate")
+    truth = superquadric_arg(truth, "truth")
+    n_vol = positive_int(volume_samples, "volume_samples")
+    n_cd = positive_int(chamfer_samples, "chamfer_samples")
+    if isinstance(rng, np.random.Generator):
+        seed = "a caller's Generator"
+    else:
+        seed = "no seed" if rng is None else f"seed {rng}"
+    gen = as_generator(rng)
+    volumes = volume_overlap(estimate, truth, samples=n_vol, rng=gen)
+    distance = chamfer(estimate, truth, samples=n_cd, rng=gen)
+    method = (
+        f"Monte Carlo: {n_vol} points uniform inside each solid (rejection sampling), {seed}; "
+        f"exact closed-form volumes; standard error of alpha, beta <= {0.5 / np.sqrt(n_vol):.4f}"
+    )
+    return Score(
+        alpha=volumes.alpha,
+        beta=volumes.beta,
+        iou=volumes.iou,
+        chamfer=distance,
+        volume_method=method,
+    )
+
+
+__all__ = ["Score", "score"]
