@@ -1,0 +1,120 @@
+"""Fingertip contacts read from MuJoCo's contact data (SPEC §7).
+
+For a contact between a fingertip sphere and the object:
+
+- ``contact.frame[:3]`` points from ``contact.geom[0]`` to ``contact.geom[1]``; geoms are ordered
+  by type, so the sphere is usually ``geom[0]`` and the normal then points *into* the object. It is
+  flipped so that ``normal_world`` always points out of the object.
+- ``contact.pos`` is the midpoint between the two surfaces and ``contact.dist`` their signed
+  distance (< 0: penetration). With ``n`` outward, the fingertip's surface point is the object's
+  surface point plus ``dist * n``, so the object's surface point is ``pos - 0.5 * dist * n``.
+- The normal force is the first component of ``mj_contactForce`` (contact frame) [N].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.sim.hand import Hand
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class FingertipContact:
+    """One fingertip touching the object.
+
+    Attributes:
+        finger: finger index (0 thumb, 1 index, 2 middle, 3 ring).
+        point_world: (3,) float, contact point on the object's surface [m, world].
+        normal_world: (3,) float, unit normal pointing out of the object [world].
+        force: normal force [N] (>= 0).
+        dist: signed distance between the surfaces [m] (< 0: penetration).
+        time: simulation time [s].
+    """
+
+    finger: int
+    point_world: Array
+    normal_world: Array
+    force: float
+    dist: float
+    time: float
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """All hand/object contacts at one instant.
+
+    Attributes:
+        tips: per finger (index order), the strongest fingertip/object contact or None.
+        other_object: number of contacts between the object and a non-tip part of the hand.
+        table: number of contacts between the hand and the table.
+    """
+
+    tips: tuple[FingertipContact | None, ...]
+    other_object: int
+    table: int
+
+
+def read_contacts(
+    model: mujoco.MjModel, data: mujoco.MjData, hand: Hand, object_geom_id: int
+) -> ContactState:
+    """Collect the fingertip/object contacts of the current state (call after a step).
+
+    Contacts within the margin but without force (``dist`` > 0) are reported with force 0.
+    When a fingertip has several contacts the one with the largest normal force is kept.
+
+    Args:
+        model, data: MuJoCo model and data.
+        hand: hand ids of `model`.
+        object_geom_id: id of the object geom.
+
+    Returns:
+        The contact state.
+    """
+    n_fingers = len(hand.fingers)
+    best: list[FingertipContact | None] = [None] * n_fingers
+    other = 0
+    table = 0
+    ncon = int(data.ncon)
+    if ncon == 0:
+        return ContactState(tuple(best), 0, 0)
+    geoms = data.contact.geom[:ncon]
+    force6 = np.zeros(6)
+    for i in range(ncon):
+        g0, g1 = int(geoms[i, 0]), int(geoms[i, 1])
+        if g0 == object_geom_id:
+            hand_geom, sign = g1, 1.0  # frame points from the object to the hand: outward
+        elif g1 == object_geom_id:
+            hand_geom, sign = g0, -1.0
+        else:
+            if hand.geom_is_hand[g0] or hand.geom_is_hand[g1]:
+                table += 1
+            continue
+        if not hand.geom_is_tip[hand_geom]:
+            other += 1
+            continue
+        con = data.contact[i]
+        normal = sign * np.array(con.frame[:3])
+        dist = float(con.dist)
+        point = np.array(con.pos) - 0.5 * dist * normal
+        if con.efc_address >= 0:
+            mujoco.mj_contactForce(model, data, i, force6)
+            force = max(float(force6[0]), 0.0)
+        else:
+            force = 0.0
+        finger = int(hand.geom_finger[hand_geom])
+        current = best[finger]
+        if current is None or force > current.force:
+            best[finger] = FingertipContact(
+                finger=finger, point_world=point, normal_world=normal, force=force, dist=dist,
+                time=float(data.time),
+            )  # fmt: skip
+    return ContactState(tuple(best), other, table)
+
+
+__all__ = ["ContactState", "FingertipContact", "read_contacts"]

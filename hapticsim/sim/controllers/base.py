@@ -1,0 +1,52 @@
+"""The base class of fingertip controllers ("tasks"): one finger, stepped every control tick."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+from hapticsim.sim.contacts import ContactState
+from hapticsim.sim.hand import finger_index
+from hapticsim.sim.recorder import Recorder
+from hapticsim.sim.simulator import Simulator
+
+
+class FingerTask(ABC):
+    """A controller that drives one fingertip and records its contacts.
+
+    Each control tick the explorer calls :meth:`update` with the contacts after the tick; the task
+    sets the finger's Cartesian tip target on the simulator and may record contacts. When it has
+    nothing left to do it sets :attr:`done`.
+
+    Args:
+        finger: finger index or name.
+        recorder: where contacts go.
+        pattern: pattern id in the recorder.
+    """
+
+    def __init__(self, finger: int | str, recorder: Recorder, pattern: int) -> None:
+        self.finger = finger_index(finger)
+        self.recorder = recorder
+        self.pattern = pattern
+        self.done = False
+        self.recorded = 0
+        self.message = ""
+
+    def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
+        """Keep a contact; stops the task when the recorder is full."""
+        if self.recorder.add(contact, self.pattern):
+            self.recorded += 1
+        if self.recorder.full:
+            self.finish(sim, "recorder full")
+
+    def finish(self, sim: Simulator, message: str = "") -> None:
+        """Stop: the finger holds where it is."""
+        self.done = True
+        self.message = message or self.message
+        sim.set_tip_target(self.finger, sim.tip_world(self.finger))
+
+    @abstractmethod
+    def update(self, sim: Simulator, contacts: ContactState) -> None:
+        """Advance by one control tick."""
+
+
+__all__ = ["FingerTask"]

@@ -1,0 +1,315 @@
+"""The explorer: runs fingertip controllers on a scene, moves the palm between them, keeps the
+recorded contacts.
+
+Strategies (:mod:`hapticsim.sim.strategies`) talk to the explorer in terms of probes and stripes
+planned on the rough object; the explorer picks palm poses (:class:`PalmPlanner` on a planning
+scene built from the rough object), moves the palm there along a path that keeps the hand clear
+of the object (radially out to a safety sphere, around it over the top, in along the approach),
+and steps the controllers until they finish.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import finite_float
+from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.sim.controllers import (
+    FingerTask,
+    FollowConfig,
+    FollowTask,
+    Probe,
+    ProbeConfig,
+    ProbeTask,
+)
+from hapticsim.sim.hand import TIP_RADIUS
+from hapticsim.sim.planning import PROBE_POSTURE, PalmPlanner, PalmPose
+from hapticsim.sim.recorder import Recorder
+from hapticsim.sim.rough import RoughObject
+from hapticsim.sim.scene import Scene, SceneConfig, build_scene
+from hapticsim.sim.simulator import TUCKED_POSTURE, Simulator
+
+Array = NDArray[np.float64]
+
+#: Mesh resolution of the planning scene (the rough object).
+PLANNING_MESH_RESOLUTION: int = 48
+
+
+@dataclass(frozen=True)
+class ExplorerConfig:
+    """Settings of an exploration run.
+
+    Attributes:
+        probe: probing parameters.
+        follow: contour-following parameters.
+        safe_distance: distance [m] the palm keeps from the rough bounding sphere in transit.
+        back_off: distance [m] the palm backs off along the approach before and after transit.
+        max_sim_time: longest simulated time of one exploration [s].
+        pattern_timeout: longest simulated time of one pattern [s].
+    """
+
+    probe: ProbeConfig = field(default_factory=ProbeConfig)
+    follow: FollowConfig = field(default_factory=FollowConfig)
+    safe_distance: float = 0.12
+    back_off: float = 0.05
+    max_sim_time: float = 120.0
+    pattern_timeout: float = 20.0
+
+    def __post_init__(self) -> None:
+        for name in ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"):
+            if finite_float(getattr(self, name), name) <= 0:
+                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+
+
+@dataclass(frozen=True)
+class StripeSpec:
+    """One stripe of a multi-finger sweep.
+
+    Attributes:
+        finger: finger index.
+        start: the first probe.
+        plane_normal_world: (3,) normal of the stripe's plane.
+        direction_world: (3,) initial travel direction.
+        length: path length [m].
+    """
+
+    finger: int
+    start: Probe
+    plane_normal_world: Array
+    direction_world: Array
+    length: float
+
+
+class Explorer:
+    """Runs an exploration on a scene.
+
+    Args:
+        scene: the scene with the true object.
+        rough: what the controllers know about the object.
+        recorder: where contacts go (its capacity ends the exploration).
+        config: settings.
+        progress: called with the number of recorded contacts after every pattern.
+    """
+
+    def __init__(
+        self,
+        scene: Scene,
+        rough: RoughObject,
+        recorder: Recorder,
+        config: ExplorerConfig | None = None,
+        progress: Callable[[int], None] | None = None,
+    ) -> None:
+        self.scene = scene
+        self.rough = rough
+        self.recorder = recorder
+        self.config = ExplorerConfig() if config is None else config
+        self.progress = progress
+        self.sim = Simulator(scene)
+        planning_scene = build_scene(
+            rough.shape,
+            SceneConfig(
+                mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=scene.config.workspace
+            ),
+        )
+        self.planner = PalmPlanner(planning_scene)
+        self.patterns_run = 0
+        self.log: list[dict[str, object]] = []
+        self._approach = np.array([0.0, 0.0, -1.0])
+        self.home()
+
+    # ------------------------------------------------------------------ palm motion
+    @property
+    def safe_radius(self) -> float:
+        """Radius [m] of the sphere about the rough centre the palm keeps to in transit."""
+        return self.rough.radius + self.config.safe_distance
+
+    def home(self) -> None:
+        """Reset the simulation with the palm above the object, palm down, fingers tucked."""
+        pos = self.rough.center + np.array([0.0, 0.0, self.safe_radius])
+        self.sim.reset(pos, np.eye(3))
+        self._approach = np.array([0.0, 0.0, -1.0])
+
+    @property
+    def out_of_time(self) -> bool:
+        """True when the simulated-time budget is used up."""
+        return self.sim.time > self.config.max_sim_time
+
+    def _go(self, position: Array, rotation: Array, settle: bool = False) -> None:
+        sim = self.sim
+        sim.set_palm_goal(position, rotation)
+        limit = sim.time + 5.0
+        while not sim.palm_at_goal():
+            sim.tick()
+            if sim.time > limit:
+                raise SimulationError("the palm did not reach its goal within 5 s")
+        if settle:
+            until = sim.time + 0.15
+            while sim.time < until:
+                sim.tick()
+                pos, _ = sim.palm_pose()
+                if np.linalg.norm(pos - position) < 5e-4 and sim.time > until - 0.1:
+                    break
+
+    def _arc(self, start: Array, end: Array) -> list[Array]:
+        """Waypoints from `start` to `end` on the safety sphere, over the top of the object."""
+        c, radius = self.rough.center, self.safe_radius
+        u0, u1 = (start - c) / np.linalg.norm(start - c), (end - c) / np.linalg.norm(end - c)
+        up = np.array([0.0, 0.0, 1.0])
+        path = [u0]
+        if u0 @ u1 < 0.0 or min(u0[2], u1[2]) < 0.0:
+            path.append(up)  # go over the top rather than under the object
+        path.append(u1)
+        points: list[Array] = []
+        for a, b in zip(path[:-1], path[1:], strict=True):
+            angle = float(np.arccos(np.clip(a @ b, -1.0, 1.0)))
+            steps = max(1, int(np.ceil(angle / np.radians(20.0))))
+            for k in range(1, steps + 1):
+                s = k / steps
+                if angle < 1e-6:
+                    v = b
+                else:
+                    v = (np.sin((1 - s) * angle) * a + np.sin(s * angle) * b) / np.sin(angle)
+                points.append(c + radius * v / np.linalg.norm(v))
+        return points
+
+    def move_palm(
+        self, pose: PalmPose, approach_world: Array, postures: Mapping[int, Array]
+    ) -> None:
+        """Move the palm to a planned pose along a collision-avoiding path.
+
+        The fingers freeze, the palm backs off along its current approach direction, the fingers
+        tuck, the palm travels around the object on the safety sphere (turning on the way), the
+        fingers named in `postures` unfold, and the palm moves in along `approach_world`.
+
+        Args:
+            pose: the goal.
+            approach_world: (3,) main approach direction of the coming pattern.
+            postures: joint postures [rad] by finger index to take before moving in.
+        """
+        sim, c = self.sim, self.rough.center
+        d_new = np.asarray(approach_world, float) / np.linalg.norm(approach_world)
+        for f in self.scene.hand.fingers:
+            sim.set_posture(f.index, sim.hand.finger_qpos(sim.data, f.index))
+        pos, rot = sim.mocap_pose()
+        back = pos - self._approach * self.config.back_off
+        self._go(back, rot)
+        for f in self.scene.hand.fingers:
+            sim.set_posture(f.index, TUCKED_POSTURE)
+        entry = pose.position - d_new * self.config.back_off
+        far = c + (entry - c) * max(1.0, self.safe_radius / np.linalg.norm(entry - c))
+        if np.linalg.norm(back - c) < self.safe_radius or np.linalg.norm(far - back) > 0.05:
+            out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
+            self._go(out, rot)
+            waypoints = self._arc(out, far)
+            for k, w in enumerate(waypoints):
+                self._go(w, pose.rotation if k == len(waypoints) - 1 else sim.mocap_pose()[1])
+                if k == 0:
+                    sim.set_palm_goal(w, pose.rotation)
+        self._go(far, pose.rotation)
+        self._go(entry, pose.rotation)
+        for f, q in postures.items():
+            sim.set_posture(f, q)
+        self._go(pose.position, pose.rotation, settle=True)
+        self._approach = d_new
+
+    # ------------------------------------------------------------------ running controllers
+    def run(self, tasks: Sequence[FingerTask]) -> None:
+        """Step the controllers until all are done, the recorder is full or time runs out."""
+        sim = self.sim
+        limit = sim.time + self.config.pattern_timeout
+        while not all(t.done for t in tasks):
+            contacts = sim.tick()
+            for t in tasks:
+                if not t.done:
+                    t.update(sim, contacts)
+            if self.recorder.full or sim.time > limit or self.out_of_time:
+                for t in tasks:
+                    if not t.done:
+                        t.finish(sim, "stopped")
+                break
+        # hold the fingers where they are
+        for t in tasks:
+            sim.set_tip_target(t.finger, sim.tip_world(t.finger))
+        self.patterns_run += 1
+        for t in tasks:
+            self.log.append(
+                {"task": type(t).__name__, "finger": t.finger, "recorded": t.recorded,
+                 "message": t.message, "time": round(sim.time, 4)}
+            )  # fmt: skip
+        if self.progress is not None:
+            self.progress(len(self.recorder))
+
+    # ------------------------------------------------------------------ patterns
+    def probe_patch(
+        self, finger: int, probes: Sequence[Probe], posture: Array = PROBE_POSTURE
+    ) -> int:
+        """Probe a patch with one finger; probes are grouped by palm pose.
+
+        Returns:
+            Number of contacts recorded.
+        """
+        remaining = list(probes)
+        before = len(self.recorder)
+        pattern = self.recorder.new_pattern("patch")
+        while remaining and not self.recorder.full and not self.out_of_time:
+            mean_aim = np.mean([p.aim_world for p in remaining], axis=0)
+            mean_dir = np.mean([p.approach_world for p in remaining], axis=0)
+            mean_dir /= np.linalg.norm(mean_dir)
+            # tip of the nominal posture on the surface near the patch centre
+            first = min(remaining, key=lambda p: np.linalg.norm(p.aim_world - mean_aim))
+            tip = first.aim_world - mean_dir * TIP_RADIUS
+            pose = self.planner.probe_poses(finger, tip, mean_dir, posture)[0]
+            group, rest = [], []
+            for p in remaining:
+                pts = [p.start(self.config.probe.standoff), p.aim_world + p.approach_world * 0.004]
+                ok, _ = self.planner.reachable(finger, pose, pts, posture)
+                (group if ok else rest).append(p)
+            if not group:  # the nominal posture itself reaches `first`'s aim
+                group, rest = [first], [p for p in remaining if p is not first]
+            self.move_palm(pose, mean_dir, {finger: posture})
+            self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe)])
+            remaining = rest
+        return len(self.recorder) - before
+
+    def sweep(
+        self,
+        pose: PalmPose,
+        approach_world: Array,
+        stripes: Sequence[StripeSpec],
+        postures: Mapping[int, Array],
+        extra: Sequence[tuple[int, Sequence[Probe]]] = (),
+    ) -> int:
+        """Several fingers follow contours at once from one palm pose; optionally other fingers
+        probe meanwhile (e.g. the thumb on a corner).
+
+        Args:
+            pose: palm pose.
+            approach_world: (3,) direction the palm comes in along.
+            stripes: one per following finger.
+            postures: finger postures to take before moving in.
+            extra: (finger, probes) patches probed at the same time.
+
+        Returns:
+            Number of contacts recorded.
+        """
+        before = len(self.recorder)
+        self.move_palm(pose, approach_world, postures)
+        tasks: list[FingerTask] = []
+        for s in stripes:
+            pattern = self.recorder.new_pattern("stripe")
+            tasks.append(
+                FollowTask(s.finger, s.start, s.plane_normal_world, s.direction_world, s.length,
+                           self.recorder, pattern, self.config.follow, self.config.probe)
+            )  # fmt: skip
+        for finger, probes in extra:
+            pattern = self.recorder.new_pattern("patch")
+            tasks.append(ProbeTask(finger, probes, self.recorder, pattern, self.config.probe))
+        self.run(tasks)
+        return len(self.recorder) - before
+
+
+__all__ = ["Explorer", "ExplorerConfig", "StripeSpec"]

@@ -1,0 +1,236 @@
+"""Stepping a scene: palm mocap, fingertip Cartesian servo (damped least squares), safety checks.
+
+The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each control tick it
+
+1. moves the palm's mocap body a bounded step toward the palm goal (position and rotation),
+2. for every finger with a Cartesian tip target sets the position actuators to
+   ``q + dls_step(J_tip, clip(target - tip))`` with ``J_tip`` from ``mj_jacSite``; a finger
+   without a tip target is servoed to a joint posture,
+3. steps the physics ``control_steps`` times and checks for instability (``mjWARN_BADQACC`` or a
+   non-finite state), raising :class:`~hapticsim.errors.SimulationError`,
+4. reads the fingertip contacts (:func:`~hapticsim.sim.contacts.read_contacts`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import finite_array, finite_float, positive_int
+from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.sim._vec import norm
+from hapticsim.sim.contacts import ContactState, read_contacts
+from hapticsim.sim.dls import dls_step
+from hapticsim.sim.scene import Scene
+
+Array = NDArray[np.float64]
+
+_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+#: Joint posture [rad] (abduction, proximal, distal flexion) of a finger out of the way.
+TUCKED_POSTURE: Array = np.array([0.0, 1.5, 1.9])
+#: Joint posture [rad] of a finger ready to probe (distal link about 55 deg from the palm).
+READY_POSTURE: Array = np.array([0.0, 0.35, 0.6])
+
+
+@dataclass(frozen=True)
+class ServoConfig:
+    """Gains and limits of the control loop.
+
+    Attributes:
+        control_steps: physics steps per control tick.
+        damping: DLS damping lambda [m].
+        max_tip_error: largest Cartesian error fed to the DLS per tick [m].
+        palm_speed: largest palm speed [m/s].
+        palm_angular_speed: largest palm angular speed [rad/s].
+    """
+
+    control_steps: int = 2
+    damping: float = 0.01
+    max_tip_error: float = 0.01
+    palm_speed: float = 0.6
+    palm_angular_speed: float = 4.0
+
+    def __post_init__(self) -> None:
+        positive_int(self.control_steps, "control_steps")
+        for name in ("damping", "max_tip_error", "palm_speed", "palm_angular_speed"):
+            if finite_float(getattr(self, name), name) <= 0:
+                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+
+
+def _quat(rot: Array) -> Array:
+    """(4,) unit quaternion (w, x, y, z) of a rotation matrix (MuJoCo's conversion, fast)."""
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(rot, dtype=np.float64).ravel())
+    return quat
+
+
+class Simulator:
+    """A running scene with a palm goal and per-finger commands.
+
+    Args:
+        scene: the compiled scene.
+        servo: control-loop settings.
+    """
+
+    def __init__(self, scene: Scene, servo: ServoConfig | None = None) -> None:
+        self.scene = scene
+        self.model = scene.model
+        self.hand = scene.hand
+        self.servo = ServoConfig() if servo is None else servo
+        self.data = mujoco.MjData(self.model)
+        self.dt_control = self.servo.control_steps * self.model.opt.timestep
+        self.steps = 0
+        n = len(self.hand.fingers)
+        self._tip_target: list[Array | None] = [None] * n
+        self._posture: list[Array] = [TUCKED_POSTURE.copy() for _ in range(n)]
+        self._palm_goal_pos = np.zeros(3)
+        self._palm_goal_quat = np.array([1.0, 0.0, 0.0, 0.0])
+        self.contacts = ContactState((None,) * n, 0, 0)
+
+    # ------------------------------------------------------------------ state
+    @property
+    def time(self) -> float:
+        """Simulation time [s]."""
+        return float(self.data.time)
+
+    def reset(self, palm_world: Array, palm_rot_world: Array, posture: Array | None = None) -> None:
+        """Reset the physics with the palm (and its mocap) at a pose and every finger at a posture.
+
+        Args:
+            palm_world: (3,) float, palm position [m].
+            palm_rot_world: (3, 3) float, palm rotation (columns: palm axes in the world).
+            posture: (3,) joint angles [rad] of every finger (default: tucked).
+        """
+        pos = finite_array(palm_world, "palm_world", (3,))
+        rot = finite_array(palm_rot_world, "palm_rot_world", (3, 3))
+        self.scene.config.workspace.check_palm(pos)
+        m, d, hand = self.model, self.data, self.hand
+        mujoco.mj_resetData(m, d)
+        quat = _quat(rot)
+        d.qpos[hand.palm_qpos_adr : hand.palm_qpos_adr + 3] = pos
+        d.qpos[hand.palm_qpos_adr + 3 : hand.palm_qpos_adr + 7] = quat
+        d.mocap_pos[hand.mocap_id] = pos
+        d.mocap_quat[hand.mocap_id] = quat
+        q0 = TUCKED_POSTURE if posture is None else np.asarray(posture, dtype=np.float64)
+        for f in hand.fingers:
+            q = np.clip(q0, f.ctrl_range[:, 0], f.ctrl_range[:, 1])
+            d.qpos[f.qpos_adr] = q
+            d.ctrl[f.actuator_ids] = q
+            self._posture[f.index] = q.copy()
+            self._tip_target[f.index] = None
+        self._palm_goal_pos = pos.copy()
+        self._palm_goal_quat = quat.copy()
+        self.steps = 0
+        mujoco.mj_forward(m, d)
+        self.contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
+
+    def palm_pose(self) -> tuple[Array, Array]:
+        """Actual palm position (3,) [m] and rotation (3, 3), world frame."""
+        return self.hand.palm_pose(self.data)
+
+    def mocap_pose(self) -> tuple[Array, Array]:
+        """Palm mocap position (3,) [m] and rotation (3, 3), world frame."""
+        i = self.hand.mocap_id
+        rot = np.zeros(9)
+        mujoco.mju_quat2Mat(rot, self.data.mocap_quat[i])
+        return self.data.mocap_pos[i].copy(), rot.reshape(3, 3)
+
+    def tip_world(self, finger: int) -> Array:
+        """(3,) float, fingertip centre of a finger [m, world]."""
+        return self.hand.tip_world(self.data, finger)
+
+    # ------------------------------------------------------------------ commands
+    def set_palm_goal(self, palm_world: Array, palm_rot_world: Array) -> None:
+        """Where the palm should go; the mocap moves there at bounded speed, tick by tick.
+
+        Raises:
+            SimulationError: the goal is out of the arm's reach.
+        """
+        pos = finite_array(palm_world, "palm_world", (3,))
+        self.scene.config.workspace.check_palm(pos)
+        self._palm_goal_pos = pos.copy()
+        self._palm_goal_quat = _quat(finite_array(palm_rot_world, "palm_rot_world", (3, 3)))
+
+    def palm_at_goal(self, tol: float = 1e-4) -> bool:
+        """True when the mocap has reached the palm goal."""
+        i = self.hand.mocap_id
+        rotvec = np.zeros(3)
+        mujoco.mju_subQuat(rotvec, self._palm_goal_quat, self.data.mocap_quat[i])
+        dist = np.linalg.norm(self.data.mocap_pos[i] - self._palm_goal_pos)
+        return bool(dist < tol and np.linalg.norm(rotvec) < 1e-3)
+
+    def set_tip_target(self, finger: int, target_world: Array | None) -> None:
+        """Cartesian target of a fingertip centre [m, world]; None switches to its posture."""
+        self._tip_target[finger] = (
+            None if target_world is None else np.asarray(target_world, dtype=np.float64).copy()
+        )
+
+    def set_posture(self, finger: int, q: Array) -> None:
+        """Joint posture [rad] of a finger (used while it has no tip target)."""
+        f = self.hand.fingers[finger]
+        q = np.asarray(q, dtype=np.float64)
+        self._posture[finger] = np.clip(q, f.ctrl_range[:, 0], f.ctrl_range[:, 1])
+        self._tip_target[finger] = None
+
+    # ------------------------------------------------------------------ stepping
+    def _advance_mocap(self) -> None:
+        d, i = self.data, self.hand.mocap_id
+        pos = d.mocap_pos[i]
+        delta = self._palm_goal_pos - pos
+        dist = float(np.sqrt(delta @ delta))
+        max_step = self.servo.palm_speed * self.dt_control
+        if dist <= max_step:
+            d.mocap_pos[i] = self._palm_goal_pos
+        else:
+            d.mocap_pos[i] = pos + delta * (max_step / dist)
+        quat = d.mocap_quat[i].copy()
+        rotvec = np.zeros(3)
+        mujoco.mju_subQuat(rotvec, self._palm_goal_quat, quat)
+        angle = float(np.sqrt(rotvec @ rotvec))
+        max_angle = self.servo.palm_angular_speed * self.dt_control
+        if angle > max_angle:
+            mujoco.mju_quatIntegrate(quat, rotvec, max_angle / angle)
+            mujoco.mju_normalize4(quat)
+            d.mocap_quat[i] = quat
+        else:
+            d.mocap_quat[i] = self._palm_goal_quat
+
+    def _servo_fingers(self) -> None:
+        d, hand = self.data, self.hand
+        for f in hand.fingers:
+            target = self._tip_target[f.index]
+            if target is None:
+                d.ctrl[f.actuator_ids] = self._posture[f.index]
+                continue
+            error = target - d.site_xpos[f.site_id]
+            length = norm(error)
+            if length > self.servo.max_tip_error:
+                error *= self.servo.max_tip_error / length
+            jac = hand.tip_jacobian(d, f.index)
+            q = d.qpos[f.qpos_adr] + dls_step(jac, error, self.servo.damping)
+            d.ctrl[f.actuator_ids] = np.clip(q, f.ctrl_range[:, 0], f.ctrl_range[:, 1])
+
+    def _check_stable(self) -> None:
+        d = self.data
+        bad = d.warning[_BADQACC].number
+        if bad > 0 or not np.isfinite(d.qacc.sum() + d.qpos.sum()):
+            raise SimulationError(
+                f"the simulation went unstable at t = {d.time:.4f} s (bad or non-finite "
+                "accelerations); try a smaller timestep or a gentler exploration"
+            )
+
+    def tick(self) -> ContactState:
+        """One control tick (see module docstring); returns the contacts after it."""
+        self._advance_mocap()
+        self._servo_fingers()
+        mujoco.mj_step(self.model, self.data, nstep=self.servo.control_steps)
+        self.steps += self.servo.control_steps
+        self._check_stable()
+        self.contacts = read_contacts(self.model, self.data, self.hand, self.scene.object_geom_id)
+        return self.contacts
+
+
+__all__ = ["READY_POSTURE", "ServoConfig", "Simulator", "TUCKED_POSTURE"]
