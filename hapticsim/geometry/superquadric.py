@@ -48,6 +48,8 @@ PARAM_NAMES: tuple[str, ...] = (
 )  # fmt: skip
 
 _EPS_SLACK = 1e-9
+#: Largest |R^T R - I| entry kept as is; SVD output and float round trips stay below ~1e-15.
+_ORTHO_EXACT = 1e-14
 
 
 def _frozen(arr: Array) -> Array:
@@ -96,9 +98,13 @@ class Superquadric:
                 "`rotation` must be a proper rotation matrix (orthonormal, det +1), got "
                 f"{np.round(rotation, 6).tolist()}"
             )
+        # Re-orthonormalise only what needs it: an SVD of an already orthonormal matrix changes
+        # its last bits, and then JSON and replace() round trips would not be exact.
+        if np.max(np.abs(rotation.T @ rotation - np.eye(3))) > _ORTHO_EXACT:
+            rotation = orthonormalize(rotation)
         for name, value in (
             ("a", a), ("eps", np.clip(eps, EPS_MIN, EPS_MAX)), ("taper", np.clip(taper, -1, 1)),
-            ("rotation", orthonormalize(rotation)), ("center", center),
+            ("rotation", rotation), ("center", center),
         ):  # fmt: skip
             object.__setattr__(self, name, _frozen(value))
 
