@@ -25,6 +25,17 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+def _seed(text: str) -> int:
+    """argparse type of ``--seed``: an int >= 0 (what ``numpy.random.default_rng`` accepts)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
+    return value
+
+
 def _print_json(data: Any) -> None:
     sys.stdout.write(json.dumps(data, indent=2) + "\n")
     sys.stdout.flush()
@@ -36,6 +47,10 @@ def _cmd_synth(args: argparse.Namespace) -> int:
     from hapticsim.data.bodies import resolve_body
     from hapticsim.data.synthetic import paper_dataset
 
+    # Check both outputs first so that bad input never leaves one of them written.
+    io.check_output_path(args.out, io.CONTACT_SUFFIXES)
+    if args.truth_out:
+        io.check_output_path(args.truth_out)
     truth = resolve_body(args.body)
     contacts = paper_dataset(truth, noise=args.noise, rng=args.seed, count=args.count)
     io.write_contacts(args.out, contacts)
@@ -123,7 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("synth", help="synthetic contact data of a body (paper Section III-A)")
     p.add_argument("body", help=f"one of {', '.join(BODY_NAMES)}, or a superquadric JSON file")
     p.add_argument("--noise", type=float, default=0.1, help="relative noise sigma_N (default 0.1)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_seed, default=0)
     p.add_argument("--count", type=int, default=150, help="number of contacts (default 150)")
     p.add_argument("--out", default="contacts.npz", help=".npz or .csv (default contacts.npz)")
     p.add_argument("--truth-out", default=None, help="also write the true superquadric JSON")
@@ -132,7 +147,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("score", help="quality measures of an estimate against the truth")
     p.add_argument("estimate", help="superquadric or fit-result JSON")
     p.add_argument("truth", help="superquadric JSON")
-    p.add_argument("--seed", type=int, default=0, help="seed of the volume sampling")
+    p.add_argument("--seed", type=_seed, default=0, help="seed of the volume sampling")
     p.set_defaults(func=_cmd_score)
 
     p = sub.add_parser("fit", help="fit a superquadric to a contacts file")

@@ -1,0 +1,168 @@
+"""`hapticsim synth` and `hapticsim score` (SPEC §6)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hapticsim.cli import main
+from hapticsim.data.bodies import get_body
+from hapticsim.geometry import Superquadric
+
+REPO = Path(__file__).resolve().parents[1]
+SPEC_KEYS = {"alpha", "beta", "epsilon", "iou", "chamfer"}
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_bad_input(code: int, out: str, err: str, command: str, match: str) -> None:
+    assert code == 2
+    assert out == ""  # stdout carries only JSON, and there is none
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith(f"hapticsim {command}: error: ")
+    assert match in lines[0]
+    assert "Traceback" not in err
+
+
+# ----------------------------------------------------------------------------- synth
+def test_synth_writes_contacts_and_truth(capsys, tmp_path: Path) -> None:
+    out, truth = tmp_path / "c.npz", tmp_path / "t.json"
+    code, stdout, _ = run(
+        capsys, "synth", "tapered_box", "--seed", "3", "--out", str(out), "--truth-out", str(truth)
+    )
+    assert code == 0
+    report = json.loads(stdout)
+    assert report["count"] == 150 and report["contacts"] == str(out)
+    assert Superquadric.from_dict(report["truth"]) == get_body("tapered_box")
+    assert Superquadric.from_json(truth) == get_body("tapered_box")
+    with np.load(out) as data:
+        assert set(data.files) == {"points", "normals", "points_clean", "normals_clean", "pattern"}
+        assert data["points"].shape == (150, 3)
+        first = {k: data[k] for k in data.files}
+    # Same seed, same file contents bit for bit.
+    again = tmp_path / "again.npz"
+    assert main(["synth", "tapered_box", "--seed", "3", "--out", str(again)]) == 0
+    with np.load(again) as data:
+        assert all(np.array_equal(first[k], data[k]) for k in first)
+
+
+def test_synth_csv_and_json_body(capsys, tmp_path: Path) -> None:
+    body = tmp_path / "body.json"
+    sq = Superquadric(a=(0.02, 0.03, 0.04), eps=(0.6, 0.9), taper=(0.2, -0.1))
+    sq.to_json(body)
+    out = tmp_path / "c.csv"
+    code, stdout, _ = run(
+        capsys, "synth", str(body), "--count", "40", "--noise", "0", "--out", str(out)
+    )
+    assert code == 0 and json.loads(stdout)["count"] == 40
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert table.shape == (40, 6)
+    np.testing.assert_allclose(sq.inside_outside(table[:, :3]), 1.0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (["sphere"], "tapered_box, cube, cylinder, ellipsoid"),
+        (["cube", "--count", "5"], "`count`"),
+        (["cube", "--noise", "-1"], "`noise`"),
+        (["cube", "--noise", "nan"], "`noise`"),
+        (["cube", "--out", "c.txt"], "must end in"),
+        (["cube", "--out", "missing/c.npz"], "does not exist"),
+        (["cube", "--truth-out", "missing/t.json"], "does not exist"),
+        (["missing.json"], "not found"),
+        (["bad.json"], "`eps`"),
+    ],
+)
+def test_synth_bad_input(capsys, tmp_path: Path, monkeypatch, args: list, match: str) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("bad.json").write_text('{"a": [0.01, 0.02, 0.03], "eps": [0.01, 1]}')
+    code, out, err = run(capsys, "synth", *args)
+    assert_bad_input(code, out, err, "synth", match)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]  # nothing written
+
+
+def test_bad_command_line_is_one_line_and_status_2(capsys) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["synth", "cube", "--seed", "-1"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "--seed" in err
+
+
+# ----------------------------------------------------------------------------- score
+def test_score_prints_the_spec_json(capsys, tmp_path: Path) -> None:
+    truth = get_body("cube")
+    estimate = truth.replace(a=(0.031, 0.029, 0.03), eps=(0.2, 0.15))
+    truth.to_json(tmp_path / "truth.json")
+    (tmp_path / "fit.json").write_text(
+        json.dumps({"superquadric": estimate.to_dict(), "method": "nH", "eof": 1e-6})
+    )
+    code, stdout, err = run(
+        capsys, "score", str(tmp_path / "fit.json"), str(tmp_path / "truth.json")
+    )
+    assert code == 0 and err == ""
+    result = json.loads(stdout)
+    assert set(result) == SPEC_KEYS | {"volume_method"}
+    assert result["epsilon"] == pytest.approx(result["alpha"] + result["beta"])
+    assert 0 < result["alpha"] < 0.2 and 0 < result["beta"] < 0.2
+    code, same, _ = run(capsys, "score", str(tmp_path / "truth.json"), str(tmp_path / "truth.json"))
+    assert json.loads(same)["alpha"] == 0.0 and json.loads(same)["iou"] == 1.0
+
+
+GOOD = {"a": [0.03, 0.04, 0.05], "eps": [0.1, 0.1], "taper": [0, 0], "center": [0, 0, 0]}
+
+
+@pytest.mark.parametrize(
+    ("content", "match"),
+    [
+        (None, "not found"),
+        ("", "empty"),
+        ("{", "not valid JSON"),
+        ("[1, 2]", "JSON object"),
+        ('{"a": [0.03, 0.04, 0.05]}', "missing"),
+        (json.dumps(GOOD | {"a": [0.03, -0.04, 0.05]}), "`a`"),
+        ('{"a": [NaN, 0.04, 0.05], "eps": [0.1, 0.1]}', "NaN"),
+        (json.dumps(GOOD | {"a": [0.03, 0.04]}), "`a`"),
+        (json.dumps(GOOD | {"eps": [0.1, 2.5]}), "`eps`"),
+        (json.dumps(GOOD | {"taper": [1.5, 0.0]}), "`taper`"),
+        (json.dumps(GOOD | {"rotation": [[1, 0, 0], [0, 1, 0], [0, 0, 2]]}), "`rotation`"),
+        (json.dumps(GOOD | {"rotation": [[1, 0, 0], [0, 1, 0], [0, 0, -1]]}), "`rotation`"),
+        (json.dumps(GOOD | {"center": "origin"}), "`center`"),
+        (json.dumps({"superquadric": 3}), "JSON object"),
+        (b"\xff\xfe\x00{", "UTF-8"),
+    ],
+)
+def test_score_bad_input(capsys, tmp_path: Path, content, match: str) -> None:
+    get_body("cube").to_json(tmp_path / "truth.json")
+    bad = tmp_path / "estimate.json"
+    if isinstance(content, bytes):
+        bad.write_bytes(content)
+    elif content is not None:
+        bad.write_text(content)
+    for argv in (["score", str(bad), str(tmp_path / "truth.json")],
+                 ["score", str(tmp_path / "truth.json"), str(bad)]):  # fmt: skip
+        code, out, err = run(capsys, *argv)
+        assert_bad_input(code, out, err, "score", match)
+
+
+def test_console_process_reports_bad_input_without_traceback(tmp_path: Path) -> None:
+    env = os.environ | {"PYTHONPATH": str(REPO)}
+    proc = subprocess.run(
+        [sys.executable, "-m", "hapticsim.cli", "score", str(tmp_path / "no.json"), "x.json"],
+        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert len(proc.stderr.splitlines()) == 1 and "not found" in proc.stderr
