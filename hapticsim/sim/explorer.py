@@ -93,6 +93,8 @@ class Explorer:
         recorder: where contacts go (its capacity ends the exploration).
         config: settings.
         progress: called with the number of recorded contacts after every pattern.
+        on_pattern_end: called with the explorer after every pattern, fingers still on the
+            object (e.g. to take a picture).
     """
 
     def __init__(
@@ -102,12 +104,14 @@ class Explorer:
         recorder: Recorder,
         config: ExplorerConfig | None = None,
         progress: Callable[[int], None] | None = None,
+        on_pattern_end: Callable[[Explorer], None] | None = None,
     ) -> None:
         self.scene = scene
         self.rough = rough
         self.recorder = recorder
         self.config = ExplorerConfig() if config is None else config
         self.progress = progress
+        self.on_pattern_end = on_pattern_end
         self.sim = Simulator(scene)
         planning_scene = build_scene(
             rough.shape,
@@ -242,6 +246,8 @@ class Explorer:
             )  # fmt: skip
         if self.progress is not None:
             self.progress(len(self.recorder))
+        if self.on_pattern_end is not None:
+            self.on_pattern_end(self)
 
     # ------------------------------------------------------------------ patterns
     def probe_patch(

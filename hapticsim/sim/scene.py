@@ -152,10 +152,12 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
 
     spec.worldbody.add_light(name="key", pos=[0.3, -0.4, 1.2], dir=[-0.3, 0.4, -1.0])
     spec.worldbody.add_light(name="fill", pos=[-0.5, 0.3, 1.0], dir=[0.5, -0.3, -1.0])
+    eye = truth.center + np.array([0.32, -0.30, 0.20])
+    forward = (truth.center - eye) / np.linalg.norm(truth.center - eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
     spec.worldbody.add_camera(
-        name="overview",
-        pos=[truth.center[0] + 0.35, truth.center[1] - 0.35, table_top_z + 0.35],
-        xyaxes=[0.707, 0.707, 0, -0.4, 0.4, 0.825],
+        name="overview", pos=eye.tolist(), xyaxes=[*right, *np.cross(right, forward)], fovy=45.0
     )
     model = spec.compile()
     return Scene(

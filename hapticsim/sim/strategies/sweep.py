@@ -105,10 +105,13 @@ def plan_sweep(
             offset = float((bases[f] - mid_base) @ u)
             limit = (plus if offset > 0 else minus) - 0.006
             offset = float(np.sign(offset) * min(abs(offset), max(limit, 0.0)))
-            shift = offset * u
-            tips = [contour.at(s)[0] + contour.at(s)[1] * TIP_RADIUS + shift for s in arcs]
+            # each finger follows the contour of its own plane (round sections differ)
+            own = contour if abs(offset) < 1e-4 else edge_contour(rough, face_a, face_b, offset)
+            s_edge_f = own.edge_arc
+            arcs_f = arcs - s_edge + s_edge_f
+            tips = [own.at(s)[0] + own.at(s)[1] * TIP_RADIUS for s in arcs_f]
             _, ok = planner.reachable(f, pose, tips, SWEEP_POSTURE)
-            k_edge = int(np.argmin(np.abs(arcs - s_edge)))
+            k_edge = int(np.argmin(np.abs(arcs_f - s_edge_f)))
             if not ok[k_edge]:
                 continue
             lo = k_edge
@@ -117,11 +120,11 @@ def plan_sweep(
             hi = k_edge
             while hi < len(arcs) - 1 and ok[hi + 1]:
                 hi += 1
-            if s_edge - arcs[lo] < MIN_HALF_STRIPE or arcs[hi] - s_edge < MIN_HALF_STRIPE:
+            if s_edge_f - arcs_f[lo] < MIN_HALF_STRIPE or arcs_f[hi] - s_edge_f < MIN_HALF_STRIPE:
                 continue
-            p0, n0 = contour.at(arcs[lo])
-            p1, _ = contour.at(arcs[lo] + 0.002)
-            start = Probe(p0 + shift, -n0)
+            p0, n0 = own.at(arcs_f[lo])
+            p1, _ = own.at(arcs_f[lo] + 0.002)
+            start = Probe(p0, -n0)
             q, err = planner.kin.ik(f, start.start(explorer.config.probe.standoff),
                                     pose.position, pose.rotation, SWEEP_POSTURE)  # fmt: skip
             if err > 0.002:
@@ -167,23 +170,20 @@ def thumb_corner_probes(
     return best
 
 
-def run_sweep(
+def run_sweep_plan(
     explorer: Explorer,
+    plan: SweepPlan,
     face_a: tuple[int, float],
     face_b: tuple[int, float],
-    spacing: float | None = None,
-    fingers: Sequence[int] = SWEEP_FINGERS,
     thumb_probes: int = 0,
     rng: np.random.Generator | None = None,
 ) -> int:
-    """Plan and run one sweep, with the thumb probing the nearest corner when asked and able.
+    """Run a planned sweep, with the thumb probing a corner at the end of the edge when asked
+    and able (at least 3 reachable probes).
 
     Returns:
-        Number of contacts recorded (0 when the sweep could not be planned).
+        Number of contacts recorded.
     """
-    plan = plan_sweep(explorer, face_a, face_b, fingers)
-    if plan is None:
-        return 0
     extra: list[tuple[int, list[Probe]]] = []
     postures = dict(plan.postures)
     if thumb_probes > 0 and rng is not None:
@@ -197,15 +197,26 @@ def run_sweep(
         if len(probes) >= 3 and q is not None:
             extra.append((THUMB, probes))
             postures[THUMB] = q
-    cfg = explorer.config
-    if spacing is not None:
-        from dataclasses import replace
-
-        explorer.config = replace(cfg, follow=replace(cfg.follow, spacing=spacing))
-    try:
-        return explorer.sweep(plan.pose, plan.approach_world, plan.stripes, postures, extra)
-    finally:
-        explorer.config = cfg
+    return explorer.sweep(plan.pose, plan.approach_world, plan.stripes, postures, extra)
 
 
-__all__ = ["SweepPlan", "plan_sweep", "run_sweep", "thumb_corner_probes"]
+def run_sweep(
+    explorer: Explorer,
+    face_a: tuple[int, float],
+    face_b: tuple[int, float],
+    fingers: Sequence[int] = SWEEP_FINGERS,
+    thumb_probes: int = 0,
+    rng: np.random.Generator | None = None,
+) -> int:
+    """Plan and run one sweep (see :func:`plan_sweep`, :func:`run_sweep_plan`).
+
+    Returns:
+        Number of contacts recorded (0 when the sweep could not be planned).
+    """
+    plan = plan_sweep(explorer, face_a, face_b, fingers)
+    if plan is None:
+        return 0
+    return run_sweep_plan(explorer, plan, face_a, face_b, thumb_probes, rng)
+
+
+__all__ = ["SweepPlan", "plan_sweep", "run_sweep", "run_sweep_plan", "thumb_corner_probes"]

@@ -1,0 +1,208 @@
+"""``hapticsim explore``: a simulated haptic exploration, the fit and its score (SPEC §6).
+
+:func:`explore` runs the hand on one of the paper's bodies with a named strategy (headless
+MuJoCo), adds seeded sensor noise at the SPEC §5 level, fits a superquadric
+(:func:`hapticsim.fitting.fit`), scores it against the truth (:func:`hapticsim.metrics.score`)
+and writes, in the output directory:
+
+- ``contacts.npz``: ``points``, ``normals`` (with noise), ``points_clean``, ``normals_clean``,
+  ``finger`` (n,) int (0 thumb, 1 index, 2 middle, 3 ring), ``force`` (n,) [N], ``time`` (n,) [s],
+  ``pattern`` (n,) int (pattern id; ``pattern_kind`` gives patch/stripe per id);
+- ``truth.json`` (superquadric), ``fit.json`` (fit result), ``metrics.json`` (quality measures
+  and contact accuracy), ``report.png`` (truth, estimate, contacts with normals) and, with
+  ``render=True``, ``scene.png`` (MuJoCo's offscreen renderer, ``MUJOCO_GL=egl``).
+
+Everything is computed before the first file is written, and every file is written to a
+temporary name and renamed, so a failure leaves no half-written output.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hapticsim._validate import finite_float
+from hapticsim.errors import InvalidInputError
+
+# headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+#: Default number of contacts (paper IV).
+DEFAULT_CONTACTS: int = 150
+
+
+def _check_seed(seed: Any) -> int:
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InvalidInputError(f"`seed` must be a non-negative integer, got {seed!r}")
+    return int(seed)
+
+
+def explore(
+    object_name: str = "cube",
+    strategy: str = "paper",
+    noise: float = 0.0,
+    method: str = "nH",
+    seed: int = 0,
+    out_dir: str | Path | None = None,
+    render: bool = False,
+    progress: bool = True,
+    count: int = DEFAULT_CONTACTS,
+) -> dict[str, Any]:
+    """Explore a body with the simulated hand, fit, score and write the results.
+
+    Args:
+        object_name: one of the paper's bodies (``hapticsim.data.bodies.BODY_NAMES``).
+        strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``).
+        noise: relative sensor noise sigma_N (SPEC §5), >= 0.
+        method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``.
+        seed: seed of everything random (rough object, strategy, noise, fit, score).
+        out_dir: output directory (default ``runs/<object>-<strategy>-seed<seed>``).
+        render: also write ``scene.png`` from MuJoCo's offscreen renderer.
+        progress: show a progress bar on stderr.
+        count: number of contacts to gather.
+
+    Returns:
+        A JSON-ready summary: the output files, contact count, quality measures, contact
+        accuracy, simulation statistics and the fit's EOF and evaluations.
+
+    Raises:
+        InvalidInputError: unknown object, strategy or method (the message lists the choices),
+            or a bad noise level or seed.
+        SimulationError: the object is too large or too far for the hand, the simulation went
+            unstable, or too few contacts were gathered.
+    """
+    from hapticsim.data.bodies import get_body
+    from hapticsim.fitting import METHODS
+
+    truth = get_body(object_name)
+    from hapticsim.sim.strategies import get_strategy
+
+    get_strategy(strategy)
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
+    sigma = finite_float(noise, "noise", low=0.0)
+    seed = _check_seed(seed)
+    default = Path("runs") / f"{object_name}-{strategy}-seed{seed}"
+    out = Path(out_dir) if out_dir is not None else default
+    if out.exists() and not out.is_dir():
+        raise InvalidInputError(f"`out_dir` {out} exists and is not a directory")
+    return _explore(truth, object_name, strategy, sigma, method, seed, out, render, progress, count)
+
+
+def _explore(
+    truth: Any, object_name: str, strategy: str, sigma: float, method: str, seed: int,
+    out: Path, render: bool, progress: bool, count: int,
+) -> dict[str, Any]:  # fmt: skip
+    from tqdm import tqdm
+
+    from hapticsim.data.io import Contacts, write_contacts, write_json
+    from hapticsim.data.noise import add_noise
+    from hapticsim.experiments.explore_report import (
+        exploration_figure_png,
+        png_bytes,
+        write_bytes_atomic,
+    )
+    from hapticsim.fitting import fit
+    from hapticsim.metrics import score, theta
+    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.sim.session import run_exploration
+
+    start = time.perf_counter()
+    seeds = np.random.SeedSequence(seed).spawn(3)
+    sim_rng, noise_rng = (np.random.default_rng(s) for s in seeds[:2])
+    fit_seed = int(seeds[2].generate_state(1)[0])
+    bar = tqdm(total=count, desc=f"explore {object_name}", unit="contact", file=sys.stderr,
+               disable=not progress, leave=False)  # fmt: skip
+    picture: dict[str, bytes] = {}
+
+    def on_progress(n: int) -> None:
+        bar.update(n - bar.n)
+
+    def on_pattern_end(explorer: Any) -> None:
+        kinds = explorer.recorder.pattern_kinds
+        if render and "scene" not in picture and kinds[-1:] == ["stripe"]:
+            from hapticsim.sim.render import render_scene
+
+            picture["scene"] = png_bytes(render_scene(explorer.sim))
+
+    try:
+        run = run_exploration(truth, strategy, count, sim_rng, progress=on_progress,
+                              on_pattern_end=on_pattern_end)  # fmt: skip
+        if render and "scene" not in picture:
+            from hapticsim.sim.render import render_scene
+
+            picture["scene"] = png_bytes(render_scene(run.explorer.sim))
+        a = run.arrays
+        points, normals = add_noise(
+            a["points_clean"], a["normals_clean"], sigma, float(np.mean(truth.a)), noise_rng
+        )
+        bar.set_postfix_str("fitting")
+        result = fit(points, normals, method=method, rng=fit_seed)
+        bar.set_postfix_str("scoring")
+        quality = score(result.superquadric, truth, rng=seed)
+        accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
+        th = theta(result.superquadric, truth, points, normals if method.startswith("n") else None)
+        report = exploration_figure_png(
+            truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
+            f"{object_name}, {strategy} exploration ({run.count} contacts, sigma_N = {sigma}), "
+            f"{method} fit: epsilon = {quality.epsilon:.3f}",
+        )  # fmt: skip
+    finally:
+        bar.close()
+
+    metrics = {
+        **quality.to_dict(),
+        "theta": float(th),
+        "contact_accuracy": accuracy,
+        "contacts": run.count,
+        "noise": sigma,
+        "method": method,
+        "strategy": strategy,
+        "object": object_name,
+        "seed": seed,
+    }
+    sim_stats = {
+        "sim_time": run.sim_time,
+        "steps": run.steps,
+        "wall_time": run.wall_time,
+        "steps_per_second": run.steps_per_second,
+        "patterns": {k: run.pattern_kinds.count(k) for k in ("patch", "stripe")},
+    }
+    metrics["simulation"] = sim_stats
+
+    out.mkdir(parents=True, exist_ok=True)
+    keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
+    extra = {k: a[k] for k in keys}
+    extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
+    files = {
+        "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
+        "truth": write_json(out / "truth.json", truth.to_dict()),
+        "fit": write_json(out / "fit.json", result.to_dict()),
+        "metrics": write_json(out / "metrics.json", metrics),
+        "report": write_bytes_atomic(out / "report.png", report),
+    }
+    if "scene" in picture:
+        files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
+    return {
+        "out_dir": str(out),
+        "files": {k: str(v) for k, v in files.items()},
+        "object": object_name,
+        "strategy": strategy,
+        "method": method,
+        "noise": sigma,
+        "seed": seed,
+        "contacts": run.count,
+        "metrics": quality.to_dict() | {"theta": float(th)},
+        "contact_accuracy": accuracy,
+        "fit": {"eof": result.eof, "evaluations": result.evaluations, "seconds": result.seconds},
+        "simulation": sim_stats,
+        "seconds": time.perf_counter() - start,
+    }
+
+
+__all__ = ["DEFAULT_CONTACTS", "explore"]

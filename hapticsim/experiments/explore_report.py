@@ -1,0 +1,118 @@
+"""The report picture of ``hapticsim explore``: truth, estimate and the contacts with normals."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.geometry import Superquadric
+
+Array = NDArray[np.float64]
+
+#: Colour per finger index (thumb, index, middle, ring).
+FINGER_COLORS: tuple[str, ...] = ("tab:green", "tab:red", "tab:purple", "tab:brown")
+FINGER_LABELS: tuple[str, ...] = ("thumb", "index", "middle", "ring")
+
+
+def _surface(ax: Any, sq: Superquadric, color: str, alpha: float, resolution: int = 40) -> None:
+    mesh = sq.to_mesh(resolution)
+    v = mesh.vertices * 1000.0
+    ax.plot_trisurf(v[:, 0], v[:, 1], v[:, 2], triangles=mesh.faces, color=color, alpha=alpha,
+                    linewidth=0.0, shade=True)  # fmt: skip
+
+
+def exploration_figure_png(
+    truth: Superquadric,
+    estimate: Superquadric | None,
+    points_world: Array,
+    normals_world: Array,
+    finger: NDArray[np.int64],
+    title: str,
+    dpi: int = 110,
+) -> bytes:
+    """PNG bytes of a two-panel picture: contacts with normal arrows on the truth (left), the
+    estimate over the truth (right). Lengths in millimetres.
+
+    Args:
+        truth: the true object.
+        estimate: the fitted superquadric, or None.
+        points_world: (n, 3) float, contact points [m].
+        normals_world: (n, 3) float, outward unit normals.
+        finger: (n,) int, finger of each contact (colours).
+        title: figure title.
+        dpi: resolution.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 5))
+    pts = np.asarray(points_world) * 1000.0
+    nrm = np.asarray(normals_world)
+    half = max(float(np.max(truth.a * (1 + np.r_[np.abs(truth.taper), 0.0]))) * 1000.0, 10.0)
+    center = truth.center * 1000.0
+    arrow = 0.25 * half
+    for k, (panel, show_estimate) in enumerate((("contacts and normals", False),
+                                               ("estimate (orange) over truth (blue)", True))):
+        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
+        _surface(ax, truth, "tab:blue", 0.18 if show_estimate else 0.25)
+        if show_estimate and estimate is not None:
+            _surface(ax, estimate, "tab:orange", 0.35)
+        for f in np.unique(finger):
+            sel = finger == f
+            color = FINGER_COLORS[int(f) % len(FINGER_COLORS)]
+            ax.scatter(*pts[sel].T, s=6, color=color, depthshade=False,
+                       label=FINGER_LABELS[int(f)] if int(f) < len(FINGER_LABELS) else str(f))
+            if not show_estimate:
+                ax.quiver(*pts[sel].T, *(nrm[sel] * arrow).T, color=color, linewidth=0.6,
+                          arrow_length_ratio=0.25)  # fmt: skip
+        ax.set_xlim(center[0] - half, center[0] + half)
+        ax.set_ylim(center[1] - half, center[1] + half)
+        ax.set_zlim(center[2] - half, center[2] + half)
+        ax.set_box_aspect((1, 1, 1))
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_zlabel("z [mm]")
+        ax.set_title(panel, fontsize=9)
+        ax.view_init(elev=22, azim=-50)
+        if k == 0:
+            ax.legend(loc="upper left", fontsize=7, markerscale=2)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()
+
+
+def png_bytes(image: NDArray[np.uint8]) -> bytes:
+    """PNG bytes of an (h, w, 3) uint8 RGB image."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(image).save(buf, format="PNG", optimize=True)
+    return buf.getvalue()
+
+
+def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
+    """Write bytes through a temporary sibling file and a rename."""
+    import os
+    import tempfile
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+__all__ = ["exploration_figure_png", "png_bytes", "write_bytes_atomic"]

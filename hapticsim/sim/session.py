@@ -1,0 +1,130 @@
+"""One headless exploration run: scene, rough object, strategy, recorded contacts.
+
+:func:`run_exploration` is the simulation half of ``hapticsim explore``
+(:func:`hapticsim.experiments.explore.explore` adds sensor noise, the fit, the score and the
+files).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hapticsim._validate import as_generator, positive_int, superquadric_arg
+from hapticsim.errors import SimulationError
+from hapticsim.geometry import Superquadric
+from hapticsim.sim.explorer import Explorer, ExplorerConfig
+from hapticsim.sim.recorder import Recorder
+from hapticsim.sim.rough import RoughObject, vision_estimate
+from hapticsim.sim.scene import SceneConfig, build_scene
+from hapticsim.sim.strategies import get_strategy
+
+#: Contacts an exploration must gather to count as a success (a fit needs 13).
+MIN_CONTACTS: int = 20
+#: Default number of contacts (paper IV).
+DEFAULT_COUNT: int = 150
+
+
+@dataclass(frozen=True, eq=False)
+class Exploration:
+    """What an exploration produced.
+
+    Attributes:
+        truth: the true object [world].
+        rough: what the controllers knew.
+        arrays: recorded contacts (see :meth:`Recorder.arrays`): ``points_clean``,
+            ``normals_clean``, ``finger``, ``force``, ``time``, ``pattern``, ``dist``.
+        pattern_kinds: kind (``"patch"``/``"stripe"``) of each pattern id.
+        log: one entry per controller run (finger, contacts, how it ended).
+        sim_time: simulated time [s].
+        steps: physics steps.
+        wall_time: wall-clock time of the run, scene building included [s].
+        explorer: the explorer (its simulator holds the final state).
+    """
+
+    truth: Superquadric
+    rough: RoughObject
+    arrays: dict[str, np.ndarray]
+    pattern_kinds: tuple[str, ...]
+    log: tuple[dict[str, Any], ...]
+    sim_time: float
+    steps: int
+    wall_time: float
+    explorer: Explorer = field(repr=False)
+
+    @property
+    def count(self) -> int:
+        """Number of recorded contacts."""
+        return int(len(self.arrays["finger"]))
+
+    @property
+    def steps_per_second(self) -> float:
+        """Physics steps per wall-clock second over the whole run."""
+        return self.steps / max(self.wall_time, 1e-9)
+
+
+def run_exploration(
+    truth: Superquadric,
+    strategy: str = "paper",
+    count: int = DEFAULT_COUNT,
+    rng: np.random.Generator | int | None = 0,
+    scene_config: SceneConfig | None = None,
+    config: ExplorerConfig | None = None,
+    progress: Callable[[int], None] | None = None,
+    on_pattern_end: Callable[[Explorer], None] | None = None,
+) -> Exploration:
+    """Explore an object with the hand and return the recorded (clean) contacts.
+
+    Args:
+        truth: the object, posed in the world.
+        strategy: a registered strategy name (:func:`~hapticsim.sim.strategies.strategy_names`).
+        count: contacts to gather, >= :data:`MIN_CONTACTS`.
+        rng: seed or generator (the rough object and the strategy's random choices).
+        scene_config: scene options.
+        config: explorer options.
+        progress: called with the number of contacts after every pattern.
+        on_pattern_end: called with the explorer after every pattern.
+
+    Returns:
+        The exploration.
+
+    Raises:
+        InvalidInputError: unknown strategy (listing the choices) or bad arguments.
+        SimulationError: the object is too large or too far for the hand, the simulation went
+            unstable, or fewer than :data:`MIN_CONTACTS` contacts were gathered.
+    """
+    truth = superquadric_arg(truth, "truth")
+    run_strategy = get_strategy(strategy)
+    count = positive_int(count, "count", minimum=MIN_CONTACTS)
+    gen = as_generator(rng)
+    rough_rng, strategy_rng = gen.spawn(2)
+    start = time.perf_counter()
+    scene = build_scene(truth, scene_config)
+    rough = vision_estimate(truth, rough_rng)
+    recorder = Recorder(count)
+    explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end)
+    run_strategy(explorer, count, strategy_rng)
+    wall = time.perf_counter() - start
+    if len(recorder) < MIN_CONTACTS:
+        raise SimulationError(
+            f"the {strategy!r} exploration gathered only {len(recorder)} contacts (at least "
+            f"{MIN_CONTACTS} needed): the hand could not reach the object's surface"
+        )
+    return Exploration(
+        truth=truth,
+        rough=rough,
+        arrays=recorder.arrays(),
+        pattern_kinds=tuple(recorder.pattern_kinds),
+        log=tuple(explorer.log),
+        sim_time=explorer.sim.time,
+        steps=explorer.sim.steps,
+        wall_time=wall,
+        explorer=explorer,
+    )
+
+
+__all__ = ["DEFAULT_COUNT", "Exploration", "MIN_CONTACTS", "run_exploration"]
