@@ -39,10 +39,11 @@ def test_identical_shapes() -> None:
 
 def test_same_seed_same_score_and_invariance_under_rigid_motion() -> None:
     estimate, truth = _pair()
-    assert score(estimate, truth, rng=5) == score(estimate, truth, rng=5)
+    small = {"volume_samples": 20_000, "chamfer_samples": 1000}
+    assert score(estimate, truth, rng=5, **small) == score(estimate, truth, rng=5, **small)
     gen_a, gen_b = np.random.default_rng(5), np.random.default_rng(5)
-    assert score(estimate, truth, rng=gen_a).alpha == score(estimate, truth, rng=gen_b).alpha
-    assert "Generator" in score(estimate, truth, rng=np.random.default_rng(1)).volume_method
+    assert score(estimate, truth, gen_a, **small) == score(estimate, truth, gen_b, **small)
+    assert "Generator" in score(estimate, truth, np.random.default_rng(1), **small).volume_method
     rng = np.random.default_rng(6)
     rot = Superquadric.from_vector(np.r_[1, 1, 1, 1, 1, 0, 0, rng.normal(size=3), 0, 0, 0])
     shift = rng.normal(0, 0.3, 3)
@@ -50,6 +51,7 @@ def test_same_seed_same_score_and_invariance_under_rigid_motion() -> None:
     b = score(
         estimate.transformed(rot.rotation, shift), truth.transformed(rot.rotation, shift), rng=7
     )
+    # Measured: identical alpha and beta, chamfer equal to 2e-15 relative.
     assert abs(a.alpha - b.alpha) <= 1e-4 and abs(a.beta - b.beta) <= 1e-4
     assert b.chamfer == pytest.approx(a.chamfer, rel=1e-6)
 
