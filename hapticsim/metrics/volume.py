@@ -31,6 +31,8 @@ Array = NDArray[np.float64]
 DEFAULT_VOLUME_SAMPLES: int = 100_000
 
 _UNIT_AXES = np.ones(3)
+#: Largest number of candidates drawn at once (memory: 24 bytes each).
+_MAX_BATCH = 1_000_000
 
 
 def _max_taper_jacobian(taper: Array) -> float:
@@ -72,7 +74,7 @@ def sample_interior(
     chunks: list[Array] = []
     have = 0
     while have < n:
-        k = int((n - have) / acceptance * 1.05) + 64
+        k = min(int((n - have) / acceptance * 1.05) + 64, _MAX_BATCH)
         u = gen.uniform(-1.0, 1.0, size=(k, 3))
         keep = fn.log_inside_outside(u, _UNIT_AXES, sq.eps) < 0.0
         if tapered:

@@ -8,6 +8,7 @@ import pytest
 from hapticsim.errors import HapticsimError
 from hapticsim.geometry import Superquadric
 from hapticsim.metrics import chamfer, sample_surface, surface_distance
+from hapticsim.metrics.chamfer import closest_point_on_triangles
 from tests.core_helpers import random_rigid
 
 
@@ -55,6 +56,20 @@ def test_chamfer_is_symmetric_seeded_and_rigidly_invariant() -> None:
     rot, shift = random_rigid(np.random.default_rng(4))
     moved = chamfer(BOX.transformed(rot, shift), other.transformed(rot, shift), rng=3)
     assert moved == pytest.approx(a, rel=1e-6)
+
+
+def test_closest_point_on_triangles_matches_trimesh() -> None:
+    triangles_mod = pytest.importorskip("trimesh.triangles")
+    rng = np.random.default_rng(5)
+    tri = rng.normal(size=(20_000, 3, 3))
+    points = 2 * rng.normal(size=(20_000, 3))  # every Voronoi region gets points
+    ours = closest_point_on_triangles(tri, points)
+    np.testing.assert_allclose(ours, triangles_mod.closest_point(tri, points), atol=1e-12)
+    flat = np.array([[[0.0, 0, 0], [1, 0, 0], [2, 0, 0]], [[1.0, 1, 1], [1, 1, 1], [1, 1, 1]]])
+    np.testing.assert_allclose(
+        closest_point_on_triangles(flat, np.array([[1.5, 1, 0], [0, 0, 0]])),
+        [[1.5, 0, 0], [1, 1, 1]],
+    )
 
 
 @pytest.mark.parametrize(
