@@ -6,9 +6,11 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
 - a **probe** casts the approach ray ``origin + s * d, s from far to 0`` (``d`` the approach
   direction) and returns the first point where the inside-outside function ``F <= 1``, found on a
   coarse grid then refined on two finer ones (resolution: search length / 4e5);
-- a **stroke** walks from that contact along the surface: each step of ``stroke_spacing`` metres
-  moves along the current tangent direction, projects radially back onto the surface
-  (:meth:`Superquadric.project`) and re-projects the direction into the new tangent plane;
+- a **stroke** follows the contour in a plane, like the hand's contour-following controller: the
+  plane through the first contact spanned by its normal and the stroke direction. Each step of
+  ``stroke_spacing`` metres moves along the current tangent (in the plane), then back onto the
+  section curve radially from a point inside it (the middle of the chord along the first normal),
+  so the stroke rolls over edges and corners onto the next face;
 - a contact closer than ``table_clearance`` to the table (the plane under the object) is not
   reachable by a fingertip: a probe there is ``"blocked"``, a stroke stops there;
 - sensor noise follows SPEC §5 (relative ``sigma_N``; the clean values are kept beside).
@@ -187,24 +189,7 @@ class AnalyticBackend:
         points = [first]
         n_steps = int(round(touch.stroke_length / self.stroke_spacing))
         if n_steps > 0:
-            normal = truth.normals(first[None, :])[0]
-            t_h, t_v = tangent_frame(normal)
-            direction = np.cos(touch.stroke_angle) * t_h + np.sin(touch.stroke_angle) * t_v
-            p = first
-            for _ in range(n_steps):
-                q = truth.project((p + self.stroke_spacing * direction)[None, :])[0]
-                if not self._reachable(q):
-                    break
-                step = q - p
-                p = q
-                n = truth.normals(p[None, :])[0]
-                # Keep heading along the walked direction, in the new tangent plane.
-                d = step - np.dot(step, n) * n
-                norm = np.linalg.norm(d)
-                if norm < 1e-12:
-                    break
-                direction = d / norm
-                points.append(p)
+            points += self._stroke(first, touch.stroke_angle, n_steps)
         pts_clean = np.asarray(points)
         nrm_clean = truth.normals(pts_clean)
         k = len(pts_clean)
@@ -227,6 +212,39 @@ class AnalyticBackend:
             status="ok",
             seconds=time.perf_counter() - start,
         )
+
+    def _stroke(self, first: Array, stroke_angle: float, n_steps: int) -> list[Array]:
+        """Contacts after `first` along the planar section of a stroke (see the module doc)."""
+        truth = self._truth
+        assert truth is not None
+        n0 = truth.normals(first[None, :])[0]
+        t_h, t_v = tangent_frame(n0)
+        direction = np.cos(stroke_angle) * t_h + np.sin(stroke_angle) * t_v
+        plane = np.cross(n0, direction)  # normal of the stroke's plane
+        reach = 4.0 * truth.bounding_radius + 4.0 * float(np.linalg.norm(first - truth.center))
+        # A star centre of the (convex) section: the middle of the chord along the normal.
+        back = raycast(truth, first - reach * n0, n0, reach)
+        center = first if back is None else 0.5 * (first + (first - reach * n0 + back * n0))
+        out: list[Array] = []
+        p = first
+        for _ in range(n_steps):
+            u = p + self.stroke_spacing * direction - center
+            u -= (u @ plane) * plane  # stay in the plane
+            u /= np.linalg.norm(u)
+            s = raycast(truth, center + reach * u, -u, reach)
+            if s is None:
+                break
+            q = center + (reach - s) * u
+            if not self._reachable(q) or np.linalg.norm(q - p) < 1e-9:
+                break
+            n = truth.normals(q[None, :])[0]
+            t = np.cross(plane, n)
+            norm = np.linalg.norm(t)
+            t = t / norm if norm > 1e-9 else direction
+            direction = t if t @ (q - p) >= 0 else -t
+            out.append(q)
+            p = q
+        return out
 
     # ------------------------------------------------------------------ rendering
     def render(

@@ -4,8 +4,11 @@ A full ``nH`` fit (genetic algorithm + least squares, paper Section II) is robus
 thousands of error-of-fit evaluations; after one touch the previous estimate is usually close, so
 a least-squares refinement warm-started from it (``fit(..., initial=previous)``) is enough. The
 :class:`FitSchedule` decides: no fit below ``min_contacts`` contacts (a superquadric has 13
-parameters), a full fit on the first touch with enough contacts and then every ``full_every``
-touches, a warm-started refinement on the touches between.
+parameters); a full fit (its genetic algorithm seeded with the previous estimate too) on the
+first touch with enough contacts, whenever the new contacts *surprise* the current estimate
+(their RMS residual, paper eq. 9, exceeds ``surprise`` times its mean semi-axis: the estimate is
+wrong where the finger just was, and a local refinement would stay in its basin), and at least
+every ``full_every`` touches; a warm-started refinement otherwise.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from numpy.typing import NDArray
 
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry.eof import contact_residuals
 
 Array = NDArray[np.float64]
 
@@ -34,8 +38,10 @@ class FitSchedule:
     Attributes:
         method: method of the full fits (SPEC §3), default ``"nH"``.
         refine_method: method of the warm-started refinements, default ``"nLS"``.
-        full_every: a full fit every this many touches after the first one; 1 makes every fit
-            full, a number larger than the touch budget only the first.
+        full_every: a full fit at least every this many touches after the previous full one; 1
+            makes every fit full.
+        surprise: a full fit when the new contacts' RMS residual on the current estimate exceeds
+            this fraction of its mean semi-axis; ``inf`` turns this off.
         full_budget: evaluation budget of a full fit (None: the fitter's default).
         refine_budget: evaluation budget of a refinement (None: the fitter's default).
         min_contacts: fewest contacts to fit (13 parameters: at least 13).
@@ -43,7 +49,8 @@ class FitSchedule:
 
     method: str = "nH"
     refine_method: str = "nLS"
-    full_every: int = 5
+    full_every: int = 10
+    surprise: float = 0.1
     full_budget: int | None = 4000
     refine_budget: int | None = 400
     min_contacts: int = N_PARAMS
@@ -60,6 +67,8 @@ class FitSchedule:
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or int(value) < 1):
                 raise InvalidInputError(f"`{name}` must be None or an int >= 1, got {value!r}")
+        if not (self.surprise > 0):
+            raise InvalidInputError(f"`surprise` must be > 0 (inf: off), got {self.surprise!r}")
         if isinstance(self.min_contacts, bool) or int(self.min_contacts) < N_PARAMS:
             raise InvalidInputError(
                 f"`min_contacts` must be an int >= {N_PARAMS}, got {self.min_contacts!r}"
@@ -104,8 +113,20 @@ class IncrementalFitter:
         self.eof = 0.0
         self._touches_since_full = 0
 
+    def surprise(self, points: Array, normals: Array) -> float:
+        """RMS residual of contacts on the current estimate / its mean semi-axis (inf if none).
+
+        Args:
+            points: (k, 3) float, contacts [m, world]; normals: (k, 3) float.
+        """
+        est = self.estimate
+        if est is None or len(points) == 0:
+            return float("inf")
+        r = contact_residuals(points, normals, est.a, est.eps, est.taper, est.rotation, est.center)
+        return float(np.sqrt(np.mean(r**2)) / np.mean(est.a))
+
     def update(
-        self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: bool = True
+        self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: int = 1
     ) -> FitUpdate:
         """Refit after a touch.
 
@@ -113,7 +134,8 @@ class IncrementalFitter:
             points: (n, 3) float, all contacts so far [m, world].
             normals: (n, 3) float, their outward unit normals.
             rng: generator for the fitter's seed (one draw per fit).
-            new_contacts: False when the touch brought nothing: the estimate is kept.
+            new_contacts: how many of the contacts the last touch brought (the last rows); with
+                none the estimate is kept.
 
         Returns:
             the update.
@@ -125,9 +147,13 @@ class IncrementalFitter:
         if len(points) < sched.min_contacts:
             return FitUpdate(None, 0.0, "too_few_contacts")
         self._touches_since_full += 1
-        if self.estimate is not None and not new_contacts:
+        if self.estimate is not None and new_contacts <= 0:
             return FitUpdate(self.estimate, self.eof, "kept")
-        full = self.estimate is None or self._touches_since_full >= sched.full_every
+        full = (
+            self.estimate is None
+            or self._touches_since_full >= sched.full_every
+            or self.surprise(points[-new_contacts:], normals[-new_contacts:]) > sched.surprise
+        )
         seed = int(rng.integers(2**31 - 1))
         method = sched.method if full else sched.refine_method
         budget = sched.full_budget if full else sched.refine_budget

@@ -14,8 +14,11 @@ SHAPES = {
     "box": Superquadric(a=(0.025, 0.035, 0.05), eps=(0.1, 0.1), taper=(0.4, 0.3)),
     "ellipsoid": Superquadric(a=(0.04, 0.03, 0.05), eps=(1.0, 1.0), center=(0.01, -0.02, 0.3)),
     "posed": Superquadric(
-        a=(0.03, 0.02, 0.04), eps=(0.5, 1.5), taper=(-0.3, 0.2),
-        rotation=random_rotation(np.random.default_rng(3)), center=(0.1, 0.0, 0.2),
+        a=(0.03, 0.02, 0.04),
+        eps=(0.5, 1.5),
+        taper=(-0.3, 0.2),
+        rotation=random_rotation(np.random.default_rng(3)),
+        center=(0.1, 0.0, 0.2),
     ),  # fmt: skip
 }
 
@@ -69,7 +72,7 @@ def test_stroke_follows_the_contour_over_an_edge() -> None:
     steps = np.linalg.norm(np.diff(res.points, axis=0), axis=1)
     assert np.all(steps < 0.0055) and np.all(steps > 0.002)
     # Upwards: z grows, and the stroke crosses the top edge (z = a3 = 0.05 m) onto the top.
-    assert np.all(np.diff(res.points[:, 2]) >= -1e-9)
+    assert np.all(np.diff(res.points[:, 2]) >= -1e-6)
     assert res.normals[-1, 2] > 0.9
     assert np.all(res.finger == 1) and np.all(np.diff(res.time) > 0)
 
@@ -105,3 +108,16 @@ def test_backend_checks_its_inputs() -> None:
         backend.touch(Touch(np.ones(3), 0.0, 0.0, 4), truth.center)
     with pytest.raises(InvalidInputError, match="noise"):
         AnalyticBackend(noise=-1.0)
+
+
+def test_stroke_stays_in_its_plane_around_a_corner() -> None:
+    backend = AnalyticBackend(table=False)
+    truth = backend.reset(
+        Superquadric(a=(0.03, 0.03, 0.03), eps=(0.1, 0.1)), np.random.default_rng(0)
+    )
+    # Sideways (psi = 0) from the +x face: the plane is horizontal through the first contact.
+    res = backend.touch(Touch(np.array([1.0, 0.0, 0.2]), 0.0, 0.06, 2), truth.center)
+    assert len(res) == 13
+    np.testing.assert_allclose(res.points[:, 2], res.points[0, 2], atol=1e-6)
+    # It turns the vertical edge onto the +y face (the tangent z x n points towards +y).
+    assert res.points[-1, 1] == pytest.approx(0.03, abs=1e-4) and res.normals[-1, 1] > 0.99

@@ -59,9 +59,7 @@ def test_encode_inverts_decode() -> None:
 
 def test_uniform_actions_give_uniform_approach_directions() -> None:
     rng = np.random.default_rng(1)
-    d = np.array(
-        [decode_action(a, 0.05, 0.005, 4).approach for a in rng.uniform(-1, 1, (4000, 5))]
-    )
+    d = np.array([decode_action(a, 0.05, 0.005, 4).approach for a in rng.uniform(-1, 1, (4000, 5))])
     # Uniform on the sphere: each coordinate has mean 0 and variance 1/3 (4000 samples:
     # standard error of the variance about 0.0047).
     np.testing.assert_allclose(d.mean(axis=0), 0.0, atol=0.03)

@@ -1,0 +1,314 @@
+"""Comparison of exploration policies: epsilon after N touches over many objects.
+
+:func:`compare_policies` runs every (policy, object set, episode) on a process pool (seeds depend
+only on the episode, so results do not depend on the worker count, and every policy meets the
+same objects, noise and rough positions); :func:`write_comparison` writes the table (CSV and
+Markdown), the plot (PNG) and the raw numbers (JSON).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+
+Array = NDArray[np.float64]
+
+#: Touch counts listed in the Markdown table.
+TABLE_TOUCHES: tuple[int, ...] = (1, 2, 3, 5, 8, 10, 15, 20)
+#: Plot style per policy.
+POLICY_STYLE: dict[str, dict[str, Any]] = {
+    "random": {"color": "tab:gray", "marker": "o"},
+    "paper": {"color": "tab:green", "marker": "s"},
+    "uncertainty": {"color": "tab:red", "marker": "^"},
+}
+
+
+@dataclass(frozen=True)
+class ComparisonTask:
+    """One episode of the comparison (picklable, for the process pool).
+
+    Attributes:
+        policy: policy name (:data:`hapticsim.envs.policies.POLICY_NAMES`).
+        objects: object distribution kind.
+        episode: episode index; the environment's seed is ``seed + episode``.
+        seed: root seed.
+        env_kwargs: keyword arguments of the environment (backend, budget, ...).
+    """
+
+    policy: str
+    objects: str
+    episode: int
+    seed: int
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+
+
+_ENVS: dict[tuple, Any] = {}
+
+
+def run_task(task: ComparisonTask) -> dict[str, Any]:
+    """Run one episode; returns epsilon, IoU, contacts and step times after each touch."""
+    from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
+    from hapticsim.envs.policies import make_policy, run_episode
+
+    key = (task.objects, tuple(sorted(task.env_kwargs.items())))
+    env = _ENVS.get(key)
+    if env is None:  # one environment per worker and setting, reused across episodes
+        env = HapticExploreEnv(objects=task.objects, **task.env_kwargs)
+        _ENVS[key] = env
+    seed = task.seed + task.episode
+    policy = make_policy(task.policy, env, rng=seed)
+    record = run_episode(env, policy, seed=seed, policy_seed=seed)
+    return {
+        "policy": task.policy,
+        "objects": task.objects,
+        "episode": task.episode,
+        "epsilon": record.epsilon.tolist(),
+        "iou": record.iou.tolist(),
+        "n_contacts": record.n_contacts.tolist(),
+        "step_seconds": record.step_seconds.tolist(),
+        "truth": env.truth.to_dict() if env.truth is not None else None,
+    }
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Results of :func:`compare_policies`.
+
+    Attributes:
+        policies: policy names, in order.
+        object_sets: object distribution kinds, in order.
+        budget: touches per episode.
+        episodes: raw per-episode results (dicts from :func:`run_task`).
+        settings: the environment settings and seed, for the record.
+    """
+
+    policies: tuple[str, ...]
+    object_sets: tuple[str, ...]
+    budget: int
+    episodes: tuple[dict[str, Any], ...]
+    settings: dict[str, Any]
+
+    def epsilon(self, policy: str, objects: str) -> Array:
+        """(episodes, budget) float, epsilon after each touch (padded with the last value)."""
+        rows = [
+            r["epsilon"] for r in self.episodes if r["policy"] == policy and r["objects"] == objects
+        ]
+        out = np.ones((len(rows), self.budget))
+        for i, e in enumerate(rows):
+            e = np.asarray(e[: self.budget], dtype=np.float64)
+            out[i, : len(e)] = e
+            if 0 < len(e) < self.budget:
+                out[i, len(e) :] = e[-1]
+        return out
+
+    def summary(self, policy: str, objects: str) -> dict[str, Array]:
+        """Mean, std, median, quartiles of epsilon per touch count (arrays of length budget)."""
+        e = self.epsilon(policy, objects)
+        return {
+            "mean": e.mean(axis=0),
+            "std": e.std(axis=0, ddof=1) if len(e) > 1 else np.zeros(self.budget),
+            "median": np.median(e, axis=0),
+            "q25": np.quantile(e, 0.25, axis=0),
+            "q75": np.quantile(e, 0.75, axis=0),
+        }
+
+    def paired_test(self, policy: str, baseline: str, objects: str, touches: int) -> dict:
+        """Paired comparison of two policies after `touches` touches on the same objects.
+
+        Returns:
+            ``mean_difference`` (policy - baseline; negative: policy better), ``wins`` (episodes
+            where the policy's epsilon is lower), ``n``, and the two-sided Wilcoxon signed-rank
+            ``p_value``.
+        """
+        from scipy.stats import wilcoxon
+
+        a = self.epsilon(policy, objects)[:, touches - 1]
+        b = self.epsilon(baseline, objects)[:, touches - 1]
+        d = a - b
+        p = float(wilcoxon(a, b).pvalue) if np.any(d != 0) else 1.0
+        return {
+            "mean_difference": float(d.mean()),
+            "wins": int(np.sum(d < 0)),
+            "n": int(len(d)),
+            "p_value": p,
+        }
+
+
+def compare_policies(
+    policies: Sequence[str],
+    object_sets: Sequence[str],
+    episodes: int,
+    seed: int = 0,
+    workers: int | None = 2,
+    progress: bool = True,
+    **env_kwargs: Any,
+) -> Comparison:
+    """Run every policy on the same `episodes` objects of each object set.
+
+    Args:
+        policies: policy names.
+        object_sets: object distribution kinds (``"paper"``, ``"random"``, ``"random_tapered"``).
+        episodes: episodes per (policy, object set); episode i uses seed ``seed + i``.
+        seed: root seed.
+        workers: processes (default 2).
+        progress: show a progress bar on stderr.
+        **env_kwargs: environment settings (``backend``, ``touch_budget``, ``noise``, ...).
+
+    Returns:
+        The comparison.
+    """
+    from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
+    from hapticsim.envs.policies import POLICY_NAMES
+    from hapticsim.experiments.parallel import parallel_map
+
+    unknown = [p for p in policies if p not in POLICY_NAMES]
+    if unknown:
+        raise InvalidInputError(f"`policies` must be names from {POLICY_NAMES}, got {unknown}")
+    if episodes < 1:
+        raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
+    config = HapticExploreConfig(**env_kwargs)  # validates the settings up front
+    tasks = [
+        ComparisonTask(p, o, i, seed, dict(env_kwargs))
+        for o in object_sets
+        for i in range(episodes)
+        for p in policies
+    ]
+    results = parallel_map(run_task, tasks, workers=workers, desc="episodes", progress=progress)
+    settings = {k: v for k, v in asdict(config).items() if k not in ("objects", "fit")}
+    settings["fit"] = asdict(config.fit)
+    settings["seed"] = seed
+    settings["episodes"] = episodes
+    return Comparison(
+        tuple(policies), tuple(object_sets), config.touch_budget, tuple(results), settings
+    )
+
+
+def _markdown_table(cmp: Comparison, objects: str) -> str:
+    touches = [n for n in TABLE_TOUCHES if n <= cmp.budget]
+    head = "| N | " + " | ".join(f"{p} mean ± std (median)" for p in cmp.policies) + " |"
+    lines = [head, "|---|" + "---|" * len(cmp.policies)]
+    sums = {p: cmp.summary(p, objects) for p in cmp.policies}
+    for n in touches:
+        cells = [
+            f"{sums[p]['mean'][n - 1]:.3f} ± {sums[p]['std'][n - 1]:.3f} "
+            f"({sums[p]['median'][n - 1]:.3f})"
+            for p in cmp.policies
+        ]
+        lines.append(f"| {n} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def write_comparison(cmp: Comparison, out_dir: str | Path) -> dict[str, Path]:
+    """Write ``epsilon.csv``, ``README.md`` (tables + paired tests), ``epsilon.png``, ``raw.json``.
+
+    Args:
+        cmp: the comparison.
+        out_dir: folder (created).
+
+    Returns:
+        the paths written, by kind.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hapticsim.data.io import write_text_atomic
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: dict[str, Path] = {}
+
+    rows = ["objects,policy,touches,episodes,mean,std,median,q25,q75"]
+    for o in cmp.object_sets:
+        for p in cmp.policies:
+            s = cmp.summary(p, o)
+            n_ep = len(cmp.epsilon(p, o))
+            for n in range(cmp.budget):
+                rows.append(
+                    f"{o},{p},{n + 1},{n_ep},{s['mean'][n]:.5f},{s['std'][n]:.5f},"
+                    f"{s['median'][n]:.5f},{s['q25'][n]:.5f},{s['q75'][n]:.5f}"
+                )
+    paths["csv"] = out / "epsilon.csv"
+    write_text_atomic(paths["csv"], "\n".join(rows) + "\n")
+
+    fig, axes = plt.subplots(
+        1, len(cmp.object_sets), figsize=(5.2 * len(cmp.object_sets), 4.0), squeeze=False
+    )
+    x = np.arange(1, cmp.budget + 1)
+    for ax, o in zip(axes[0], cmp.object_sets, strict=True):
+        for p in cmp.policies:
+            s = cmp.summary(p, o)
+            style = POLICY_STYLE.get(p, {})
+            ax.plot(x, s["mean"], label=f"{p} (mean)", markersize=4, **style)
+            ax.fill_between(x, s["q25"], s["q75"], color=style.get("color"), alpha=0.15)
+        n_ep = len(cmp.epsilon(cmp.policies[0], o))
+        ax.set_title(f"objects: {o} ({n_ep} episodes)")
+        ax.set_xlabel("touches N")
+        ax.set_ylabel("epsilon = alpha + beta after N touches")
+        ax.set_ylim(0.0, 1.05)
+        ax.set_xticks(x[::2] if cmp.budget > 10 else x)
+        ax.grid(alpha=0.3)
+        ax.legend(title="shaded: quartiles", fontsize=8)
+    fig.tight_layout()
+    paths["png"] = out / "epsilon.png"
+    fig.savefig(paths["png"], dpi=120)
+    plt.close(fig)
+
+    s = cmp.settings
+    md = [
+        "# Exploration policies on HapticExplore-v0",
+        "",
+        "Epsilon (alpha + beta, volume error of the current fit against the truth; 1 before the "
+        "first fit) after N touches, mean ± standard deviation (median) over episodes. Every "
+        "policy meets the same objects, noise and rough positions (seed per episode).",
+        "",
+        f"Settings: backend `{s['backend']}`, touch budget {s['touch_budget']}, sensor noise "
+        f"sigma_N = {s['noise']}, rough-position noise {s['position_noise']} m, max stroke "
+        f"{s['max_stroke']} m, contacts every {s['stroke_spacing']} m; fit schedule {s['fit']}; "
+        f"root seed {s['seed']}. Plot: `epsilon.png`; all numbers: `epsilon.csv`, `raw.json`.",
+        "",
+        "Made by `python scripts/compare_policies.py`.",
+    ]
+    for o in cmp.object_sets:
+        md += ["", f"## Objects: {o}", "", _markdown_table(cmp, o), ""]
+        if "uncertainty" in cmp.policies and "random" in cmp.policies:
+            md += [
+                "Uncertainty-driven vs random, paired over the same objects (negative difference:"
+                " uncertainty better; Wilcoxon signed-rank test):",
+                "",
+                "| N | mean difference | uncertainty better in | p-value |",
+                "|---|---|---|---|",
+            ]
+            for n in (5, 10, cmp.budget):
+                if n > cmp.budget:
+                    continue
+                t = cmp.paired_test("uncertainty", "random", o, n)
+                md.append(
+                    f"| {n} | {t['mean_difference']:+.3f} | {t['wins']}/{t['n']} | "
+                    f"{t['p_value']:.3g} |"
+                )
+    paths["md"] = out / "README.md"
+    write_text_atomic(paths["md"], "\n".join(md) + "\n")
+    paths["json"] = out / "raw.json"
+    raw = {"settings": cmp.settings, "episodes": list(cmp.episodes)}
+    write_text_atomic(paths["json"], json.dumps(raw, default=_json_default) + "\n")
+    return paths
+
+
+def _json_default(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, float) and not np.isfinite(value):
+        return str(value)
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")

@@ -1,0 +1,221 @@
+"""HapticExplore-v0: Gymnasium contract, determinism, robustness, observation and rewards."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+from hapticsim.envs.estimator import FitSchedule
+from hapticsim.envs.haptic_explore_v0 import (
+    HapticExploreConfig,
+    HapticExploreEnv,
+    coverage_uncertainty,
+    decode_fit,
+    encode_fit,
+)
+from hapticsim.envs.registration import HAPTIC_EXPLORE_ID
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import Superquadric
+
+#: Small fit budgets keep the tests fast; the contract does not depend on them.
+FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
+
+
+def make(**kwargs: object) -> HapticExploreEnv:
+    kwargs.setdefault("backend", "analytic")
+    kwargs.setdefault("fit", FAST_FIT)
+    return HapticExploreEnv(**kwargs)  # type: ignore[arg-type]
+
+
+def test_check_env_passes_on_the_default_analytic_configuration() -> None:
+    env = gym.make(HAPTIC_EXPLORE_ID, backend="analytic")
+    check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+def _rollout(seed: int, steps: int, action_seed: int = 0) -> list[tuple]:
+    env = make(objects="random_tapered", noise=0.05)
+    actions = np.random.default_rng(action_seed).uniform(-1, 1, (steps, 5)).astype(np.float32)
+    obs, info = env.reset(seed=seed)
+    out = [(obs, 0.0, info["epsilon"], info["truth"])]
+    for a in actions:
+        obs, reward, terminated, truncated, info = env.step(a)
+        out.append((obs, reward, info["epsilon"], info["estimate"]))
+    env.close()
+    return out
+
+
+def test_seeded_resets_give_identical_episodes() -> None:
+    first = _rollout(seed=11, steps=8)
+    second = _rollout(seed=11, steps=8)
+    for (o1, r1, e1, s1), (o2, r2, e2, s2) in zip(first, second, strict=True):
+        for key in o1:
+            np.testing.assert_array_equal(o1[key], o2[key], err_msg=key)
+        assert r1 == r2 and e1 == e2 and s1 == s2
+    # A different seed draws another object (and noise).
+    other = _rollout(seed=12, steps=1)
+    assert other[0][3] != first[0][3]
+
+
+def test_reset_observation_holds_no_information_and_no_ground_truth() -> None:
+    env = make(objects="random_tapered")
+    obs, info = env.reset(seed=3)
+    assert env.observation_space.contains(obs)
+    assert not obs["mask"].any() and not obs["fit_valid"].any()
+    for key in ("points", "normals", "fit", "eof", "touches"):
+        assert not np.any(obs[key]), key
+    # The truth is in info (privileged), never in the observation's keys.
+    assert isinstance(info["truth"], Superquadric)
+    assert set(obs) == {"points", "normals", "mask", "fit", "fit_valid", "eof", "touches"}
+
+
+def test_no_fit_below_13_contacts_then_a_valid_fit() -> None:
+    env = make(objects="paper")
+    env.reset(seed=0)
+    probe = np.array([0.0, 0.3, 0.0, -1.0, 0.0], np.float32)  # one contact per probe
+    for k in range(1, 14):
+        obs, reward, _, _, info = env.step(probe)
+        assert info["n_contacts"] == k
+        if k < 13:
+            assert info["fit_status"] == "too_few_contacts" and obs["fit_valid"][0] == 0
+            assert reward == 0.0 and info["epsilon"] == 1.0 and info["estimate"] is None
+    assert info["fit_status"] == "full" and obs["fit_valid"][0] == 1
+    assert isinstance(info["estimate"], Superquadric)
+
+
+def _random_steps(env: HapticExploreEnv, steps: int, episode_length: int) -> None:
+    env.action_space.seed(0)
+    obs, _ = env.reset(seed=0)
+    episodes, statuses, fits = 0, set(), set()
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs)
+        assert all(np.all(np.isfinite(v)) for v in obs.values())
+        assert np.isfinite(reward) and np.isfinite(info["epsilon"])
+        statuses.add(info["touch_status"])
+        fits.add(info["fit_status"])
+        if terminated or truncated:
+            episodes += 1
+            obs, _ = env.reset()
+    assert episodes == steps // episode_length
+    assert {"ok", "blocked"} <= statuses
+    assert {"too_few_contacts", "full", "refine"} <= fits
+
+
+def test_one_thousand_random_steps_without_nan_or_exceptions() -> None:
+    # Cheap fits and no scoring keep 1,000 steps fast; the slow test below uses the defaults.
+    env = make(
+        objects="random_tapered", noise=0.1, touch_budget=10, reward="uncertainty",
+        compute_metrics=False, fit=FitSchedule(full_budget=300, refine_budget=60, full_every=5),
+    )  # fmt: skip
+    _random_steps(env, 1000, 10)
+
+
+@pytest.mark.slow
+def test_one_thousand_random_steps_with_the_default_settings() -> None:
+    env = HapticExploreEnv(backend="analytic", objects="random_tapered", noise=0.1)
+    _random_steps(env, 1000, 20)
+
+
+def test_truncation_at_the_budget_and_termination_at_a_target() -> None:
+    env = make(touch_budget=3)
+    env.reset(seed=0)
+    flags = [env.step(env.action_space.sample())[2:4] for _ in range(3)]
+    assert flags == [(False, False), (False, False), (False, True)]
+    env = make(target_epsilon=2.0)  # any estimate reaches it
+    env.reset(seed=0)
+    stroke = np.array([0.0, 0.3, 0.5, 1.0, 0.0], np.float32)
+    terminated = False
+    for _ in range(3):
+        _, _, terminated, _, info = env.step(stroke)
+        if info["estimate"] is not None:
+            break
+    assert terminated
+
+
+@pytest.mark.parametrize("reward", ["epsilon", "uncertainty", "eof"])
+def test_rewards_telescope(reward: str) -> None:
+    env = make(reward=reward, objects="random")
+    env.reset(seed=5)
+    stroke = np.array([0.0, 0.3, 0.5, 1.0, 0.0], np.float32)
+    total = 0.0
+    for k in range(6):
+        stroke[0] = k / 3.0 - 1.0  # around the object
+        _, r, _, _, info = env.step(stroke)
+        total += r
+    if reward == "epsilon":
+        assert total == pytest.approx(1.0 - info["epsilon"], abs=1e-9)
+    elif reward == "uncertainty":
+        assert total == pytest.approx(1.0 - info["uncertainty"], abs=1e-9)
+    else:
+        est = info["estimate"]
+        e = 1.0 if est is None else min(1.0, np.sqrt(info["fit_eof"]) / np.mean(est.a))
+        assert total == pytest.approx(1.0 - e, abs=1e-9)
+
+
+def test_fit_encoding_round_trip() -> None:
+    origin = np.array([0.01, -0.02, 0.3])
+    sq = Superquadric(
+        a=(0.02, 0.03, 0.05), eps=(0.3, 1.2), taper=(0.2, -0.1),
+        rotation=np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]]), center=(0.015, -0.02, 0.31),
+    )  # fmt: skip
+    enc = encode_fit(sq, origin, 0.1)
+    assert enc.dtype == np.float32 and enc.shape == (13,)
+    back = decode_fit(enc, 0.1)
+    np.testing.assert_allclose(back.a, sq.a, rtol=1e-6)
+    np.testing.assert_allclose(back.eps, sq.eps, rtol=1e-6)
+    np.testing.assert_allclose(back.center + origin, sq.center, atol=1e-7)
+    np.testing.assert_allclose(back.rotation, sq.rotation, atol=1e-6)
+    assert not encode_fit(None, origin, 0.1).any()
+
+
+def test_coverage_uncertainty_falls_as_contacts_cover_the_estimate() -> None:
+    sq = Superquadric(a=(0.03, 0.03, 0.03), eps=(1.0, 1.0))
+    assert coverage_uncertainty(None, np.zeros((0, 3))) == 1.0
+    eta = np.linspace(-1.5, 1.5, 20).repeat(20)
+    omega = np.tile(np.linspace(-np.pi, np.pi, 20), 20)
+    dense = sq.surface(eta, omega)[0]
+    one_side = dense[dense[:, 0] > 0.02]
+    u_side, u_all = coverage_uncertainty(sq, one_side), coverage_uncertainty(sq, dense)
+    assert 0.0 <= u_all < u_side < 1.0
+    assert u_all < 0.1
+
+
+def test_render_rgb_array() -> None:
+    env = make(render_mode="rgb_array", width=160, height=120)
+    env.reset(seed=0)
+    for _ in range(4):
+        env.step(np.array([0.2, 0.5, 0.5, 1.0, 0.0], np.float32))
+    img = env.render()
+    assert img is not None and img.shape == (120, 160, 3) and img.dtype == np.uint8
+    assert img.std() > 5  # a picture, not a blank frame
+    env.close()
+
+
+def test_invalid_configuration_lists_the_choices() -> None:
+    with pytest.raises(InvalidInputError, match="mujoco"):
+        HapticExploreConfig(backend="bullet")
+    with pytest.raises(InvalidInputError, match="uncertainty"):
+        HapticExploreConfig(reward="score")
+    with pytest.raises(InvalidInputError, match="random_tapered"):
+        HapticExploreConfig(objects="sphere")
+    with pytest.raises(InvalidInputError, match="touch_budget"):
+        HapticExploreConfig(touch_budget=0)
+    with pytest.raises(InvalidInputError, match="render_mode"):
+        HapticExploreEnv(render_mode="human", backend="analytic")
+    env = make()
+    with pytest.raises(InvalidInputError, match="reset"):
+        env.step(env.action_space.sample())
+    with pytest.raises(InvalidInputError, match="action"):
+        env.reset(seed=0)
+        env.step(np.zeros(3, np.float32))
+
+
+def test_reset_with_a_given_shape() -> None:
+    env = make()
+    shape = Superquadric(a=(0.02, 0.03, 0.04), eps=(0.5, 0.5), center=(0.0, 0.0, 0.1))
+    _, info = env.reset(seed=0, options={"shape": shape})
+    assert info["truth"] == shape
+    np.testing.assert_allclose(info["origin"], shape.center, atol=0.03)
