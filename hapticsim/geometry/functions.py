@@ -22,7 +22,8 @@ from hapticsim.constants import MIN_TAPER_FACTOR
 
 Array = NDArray[np.float64]
 
-_TINY = 1e-300
+# Smallest |x/a| used in logs: keeps 1/|u| and F^(-eps1/2) far from overflow (< 1e150).
+_TINY = 1e-150
 
 
 def signed_power(x: Array, exponent: Array | float) -> Array:
@@ -82,6 +83,74 @@ def body_to_world(points_body: Array, rotation: Array, center: Array) -> Array:
     return points_body @ rotation_t + center[..., None, :]
 
 
+def _logaddexp(x: Array, y: Array, out: Array, tmp: Array) -> Array:
+    """``log(exp(x) + exp(y))`` into `out` (`tmp` is scratch); many times faster than np.logaddexp.
+
+    Inputs must be finite. ``max(x, y) + log1p(exp(-|x - y|))``.
+    """
+    np.subtract(x, y, out=tmp)
+    np.abs(tmp, out=tmp)
+    np.negative(tmp, out=tmp)
+    np.exp(tmp, out=tmp)
+    np.log1p(tmp, out=tmp)
+    np.maximum(x, y, out=out)
+    out += tmp
+    return out
+
+
+def log_abs_scaled(x: Array, scale: Array | float, out: Array | None = None) -> Array:
+    """``log(|x| * scale + TINY)``: the log of a scaled coordinate such as ``|x / a1|``.
+
+    Finite for points on a body plane (or at the centre). ``scale`` broadcasts against ``x``.
+    """
+    out = np.abs(x, out=out)
+    out *= scale
+    out += _TINY
+    return np.log(out, out=out)
+
+
+#: Rows of the array returned by :func:`log_inside_outside_terms`.
+TERM_AU, TERM_AV, TERM_LOG_G, TERM_L1, TERM_L2, TERM_LOG_F = range(6)
+
+
+def log_inside_outside_terms(
+    log_u: Array, log_v: Array, log_w: Array, e1: Array, e2: Array, out: Array | None = None
+) -> Array:
+    """The inside-outside function in the log domain, with its intermediate terms.
+
+    This is the single implementation of F (SPEC §1); every other function calls it.
+    With ``u = x/a1, v = y/a2, w = z/a3`` (untapered body frame) and
+    ``g = |u|^(2/eps2) + |v|^(2/eps2)``, ``F = g^(eps2/eps1) + |w|^(2/eps1)``.
+
+    Args:
+        log_u, log_v, log_w: (..., n) float, ``log|u|`` etc. (finite, e.g. from
+            :func:`log_abs_scaled`).
+        e1, e2: eps1, eps2, broadcastable against them (e.g. (..., 1)).
+        out: optional (7, ..., n) float buffer to fill (the last row is scratch).
+
+    Returns:
+        (7, ..., n) float; rows (indices ``TERM_*``): ``(2/eps2) log|u|``, ``(2/eps2) log|v|``,
+        ``log g``, ``L1 = (eps2/eps1) log g``, ``L2 = (2/eps1) log|w|``, ``log F``, scratch.
+    """
+    if out is None:
+        out = np.empty((7, *np.broadcast_shapes(np.shape(log_u), np.shape(e1), np.shape(e2))))
+    au, av, log_g, l1, l2, log_f, tmp = out
+    k2 = 2.0 / e2
+    np.multiply(log_u, k2, out=au)
+    np.multiply(log_v, k2, out=av)
+    _logaddexp(au, av, log_g, tmp)
+    np.multiply(log_g, e2 / e1, out=l1)
+    np.multiply(log_w, 2.0 / e1, out=l2)
+    _logaddexp(l1, l2, log_f, tmp)
+    return out
+
+
+def _scaled_logs(points_sym: Array, a: Array) -> tuple[Array, Array, Array]:
+    p = np.asarray(points_sym, dtype=np.float64)
+    inv_a = 1.0 / np.asarray(a, dtype=np.float64)
+    return tuple(log_abs_scaled(p[..., i], inv_a[..., i, None]) for i in range(3))
+
+
 def log_inside_outside(points_sym: Array, a: Array, eps: Array) -> Array:
     """Natural log of the inside-outside function F of an untapered superquadric (SPEC §1).
 
@@ -92,16 +161,10 @@ def log_inside_outside(points_sym: Array, a: Array, eps: Array) -> Array:
         a: (..., 3) semi-axes [m]. eps: (..., 2) exponents.
 
     Returns:
-        (..., n) float, log F (``-inf`` at the centre).
+        (..., n) float, log F (about ``-345 * 2/eps1`` at the centre, where F is 0).
     """
-    p = np.asarray(points_sym, dtype=np.float64)
-    e1, e2 = _p(eps, 0), _p(eps, 1)
-    with np.errstate(divide="ignore"):
-        lx = np.log(np.abs(p[..., 0] / _p(a, 0)))
-        ly = np.log(np.abs(p[..., 1] / _p(a, 1)))
-        lz = np.log(np.abs(p[..., 2] / _p(a, 2)))
-    lxy = np.logaddexp((2.0 / e2) * lx, (2.0 / e2) * ly)
-    return np.logaddexp((e2 / e1) * lxy, (2.0 / e1) * lz)
+    lu, lv, lw = _scaled_logs(points_sym, a)
+    return log_inside_outside_terms(lu, lv, lw, _p(eps, 0), _p(eps, 1))[TERM_LOG_F]
 
 
 def inside_outside(points_sym: Array, a: Array, eps: Array) -> Array:
@@ -123,14 +186,55 @@ def radial_distance(points_sym: Array, a: Array, eps: Array) -> Array:
         points_sym: (..., n, 3) float, untapered body-frame points [m].
 
     Returns:
-        (..., n) float, non-negative distances [m]; 0 at the centre by convention... of the
-        limit ``|p| -> 0`` (the centre itself returns ``a``-free 0 * inf, replaced by 0).
+        (..., n) float, non-negative distances [m]; 0 at the centre (the limit ``|p| -> 0``).
     """
     p = np.asarray(points_sym, dtype=np.float64)
     norm = np.linalg.norm(p, axis=-1)
-    with np.errstate(invalid="ignore"):
-        out = norm * np.abs(1.0 - radial_scale(p, a, eps))
-    return np.where(norm > 0, out, 0.0)
+    return norm * np.abs(1.0 - radial_scale(p, a, eps))
+
+
+def gradient_shares(terms: Array, out: Array | None = None) -> Array:
+    """``u dF/du / ((2/eps1) F)`` for u, v, w: each term's share of F, in [0, 1].
+
+    From the rows of :func:`log_inside_outside_terms`:
+    ``h_u = (g^(eps2/eps1) / F) (|u|^(2/eps2) / g)``, ``h_v`` likewise and
+    ``h_w = |w|^(2/eps1) / F``; ``h_u + h_v + h_w = 1``. Dividing ``h_u`` by the body coordinate
+    x (tapered or not, see :func:`normals_body`) gives the gradient without any power of a small
+    number, so nothing overflows or underflows for far or near points.
+
+    Args:
+        terms: (7, ..., n) from :func:`log_inside_outside_terms`.
+        out: optional (3, ..., n) buffer.
+
+    Returns:
+        (3, ..., n) float, ``(h_u, h_v, h_w)``.
+    """
+    if out is None:
+        out = np.empty((3, *terms.shape[1:]))
+    hu, hv, hw = out
+    # common = L1 - log g - log F = log(g^(eps2/eps1) / (g F)).
+    common = terms[6]
+    np.subtract(terms[TERM_L1], terms[TERM_LOG_G], out=common)
+    common -= terms[TERM_LOG_F]
+    np.add(terms[TERM_AU], common, out=hu)
+    np.exp(hu, out=hu)
+    np.add(terms[TERM_AV], common, out=hv)
+    np.exp(hv, out=hv)
+    np.subtract(terms[TERM_L2], terms[TERM_LOG_F], out=hw)
+    np.exp(hw, out=hw)
+    return out
+
+
+def divide_or_zero(numerator: Array, coordinate: Array, out: Array) -> Array:
+    """``numerator / coordinate`` into `out`, 0 where the coordinate is exactly 0.
+
+    The gradient component ``h_u / x`` tends to 0 on the plane x = 0 for eps < 2.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        np.divide(numerator, coordinate, out=out)
+    if not np.all(coordinate):
+        out[np.broadcast_to(coordinate == 0, out.shape)] = 0.0
+    return out
 
 
 def gradient_sym(points_sym: Array, a: Array, eps: Array) -> Array:
@@ -138,28 +242,15 @@ def gradient_sym(points_sym: Array, a: Array, eps: Array) -> Array:
 
     F is homogeneous along rays, so the direction equals the outward surface normal at the
     radial projection of the point (paper eq. 3 for points on the surface). Returned vectors are
-    scaled for numerical range and are not unit length.
+    ``grad F / ((2/eps1) F)`` (see :func:`gradient_shares`), not unit length.
 
     Returns:
         (..., n, 3) float.
     """
     p = np.asarray(points_sym, dtype=np.float64)
-    e1, e2 = _p(eps, 0), _p(eps, 1)
-    u = p / np.asarray(a, dtype=np.float64)[..., None, :]
-    with np.errstate(divide="ignore"):
-        lu = np.log(np.maximum(np.abs(u), _TINY))
-    # log of |x/a1|^(2/e2) etc. and of the xy term g.
-    lax, lay = (2.0 / e2) * lu[..., 0], (2.0 / e2) * lu[..., 1]
-    lg = np.logaddexp(lax, lay)
-    laz = (2.0 / e1) * lu[..., 2]
-    # dF/dx ~ g^(e2/e1 - 1) |x/a1|^(2/e2 - 1) sign(x) / a1 (common factor 2/e1 dropped).
-    # Work relative to the log of F to keep the magnitudes near 1.
-    lf = np.logaddexp((e2 / e1) * lg, laz)
-    lxy_common = (e2 / e1 - 1.0) * lg - lf
-    gx = np.sign(u[..., 0]) * np.exp(lxy_common + lax - lu[..., 0]) / _p(a, 0)
-    gy = np.sign(u[..., 1]) * np.exp(lxy_common + lay - lu[..., 1]) / _p(a, 1)
-    gz = np.sign(u[..., 2]) * np.exp(laz - lu[..., 2] - lf) / _p(a, 2)
-    return np.stack([gx, gy, gz], -1)
+    lu, lv, lw = _scaled_logs(p, a)
+    h = gradient_shares(log_inside_outside_terms(lu, lv, lw, _p(eps, 0), _p(eps, 1)))
+    return np.stack([divide_or_zero(h[i], p[..., i], h[i]) for i in range(3)], -1)
 
 
 def normals_body(points_body: Array, a: Array, eps: Array, taper: Array) -> Array:
@@ -176,18 +267,63 @@ def normals_body(points_body: Array, a: Array, eps: Array, taper: Array) -> Arra
         (..., n, 3) float unit vectors.
     """
     p = np.asarray(points_body, dtype=np.float64)
+    a = np.asarray(a, dtype=np.float64)
+    taper = np.asarray(taper, dtype=np.float64)
     fx, fy = taper_factors(p[..., 2], a, taper)
-    sym = np.stack([p[..., 0] / fx, p[..., 1] / fy, np.broadcast_to(p[..., 2], fx.shape)], -1)
-    g = gradient_sym(sym, a, eps)
-    a3 = _p(a, 2)
-    nz = (
-        g[..., 2]
-        - g[..., 0] * sym[..., 0] * _p(taper, 0) / (a3 * fx)
-        - g[..., 1] * sym[..., 1] * _p(taper, 1) / (a3 * fy)
-    )
-    n = np.stack([g[..., 0] / fx, g[..., 1] / fy, nz], -1)
-    norm = np.linalg.norm(n, axis=-1, keepdims=True)
-    return n / np.where(norm > 0, norm, 1.0)
+    lu = log_abs_scaled(p[..., 0] / fx, 1.0 / _p(a, 0))
+    lv = log_abs_scaled(p[..., 1] / fy, 1.0 / _p(a, 1))
+    lw = log_abs_scaled(p[..., 2], 1.0 / _p(a, 2))
+    h = gradient_shares(log_inside_outside_terms(lu, lv, lw, _p(eps, 0), _p(eps, 1)))
+    n = np.empty((3, *h.shape[1:]))
+    tapered_normals(h, p[..., 0], p[..., 1], p[..., 2], fx, fy, a, taper, out=n)
+    norm = np.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+    n /= np.where(norm > 0, norm, 1.0)
+    return np.moveaxis(n, 0, -1)
+
+
+def tapered_normals(
+    shares: Array,
+    x: Array,
+    y: Array,
+    z: Array,
+    fx: Array,
+    fy: Array,
+    a: Array,
+    taper: Array,
+    out: Array,
+    tmp: Array | None = None,
+) -> Array:
+    """Unnormalised outward normals ``J_t^(-T) grad F`` (paper eq. 4) in the body frame.
+
+    With ``(h_u, h_v, h_w)`` from :func:`gradient_shares` and tapered body coordinates x, y, z,
+    ``grad F ~ (h_u / x_s, h_v / y_s, h_w / z)`` at the untapered point ``x_s = x / fx``, and
+    ``J_t^(-T)`` divides the x and y components by fx, fy and subtracts
+    ``t_x / a3 * (grad_x x_s) / fx + t_y / a3 * (grad_y y_s) / fy`` from the z component;
+    hence ``n = (h_u / x, h_v / y, h_w / z - (t_x/a3) h_u / fx - (t_y/a3) h_v / fy)``.
+
+    Args:
+        shares: (3, ..., n) from :func:`gradient_shares`.
+        x, y, z: (..., n) tapered body-frame coordinates [m]; fx, fy: their taper factors.
+        a: (..., 3) [m]; taper: (..., 2).
+        out: (3, ..., n) buffer for the result; tmp: optional (..., n) scratch.
+
+    Returns:
+        `out`, (3, ..., n) float, not unit length [1/m].
+    """
+    hu, hv, hw = shares
+    nx, ny, nz = out
+    tmp = np.empty(nx.shape) if tmp is None else tmp
+    divide_or_zero(hu, x, nx)
+    divide_or_zero(hv, y, ny)
+    divide_or_zero(hw, z, nz)
+    inv_a3 = 1.0 / _p(a, 2)
+    np.divide(hu, fx, out=tmp)
+    tmp *= _p(taper, 0) * inv_a3
+    nz -= tmp
+    np.divide(hv, fy, out=tmp)
+    tmp *= _p(taper, 1) * inv_a3
+    nz -= tmp
+    return out
 
 
 def unit_superellipse_area(eps2: float) -> float:

@@ -32,22 +32,38 @@ def skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
 def rotvec_to_matrix(rotvec: NDArray[np.float64]) -> NDArray[np.float64]:
     """Rodrigues' formula: rotation vectors (axis * angle [rad]) to matrices.
 
+    ``R = I + s K + c K^2`` with ``K = skew(v)``, ``s = sin(t)/t``, ``c = (1 - cos t)/t^2`` and
+    ``K^2 = v v^T - t^2 I``; the nine entries are written directly (no 3x3 products).
+
     Args:
         rotvec: (..., 3) float.
 
     Returns:
         (..., 3, 3) float rotation matrices.
     """
-    rotvec = np.asarray(rotvec, dtype=np.float64)
-    theta = np.linalg.norm(rotvec, axis=-1)[..., None, None]
-    k = skew(rotvec)
-    small = theta < 1e-8
+    v = np.asarray(rotvec, dtype=np.float64)
+    x, y, z = v[..., 0], v[..., 1], v[..., 2]
+    xx, yy, zz = x * x, y * y, z * z
+    t2 = xx + yy + zz
+    theta = np.sqrt(t2)
+    small = theta < 1e-4
     safe = np.where(small, 1.0, theta)
-    # sin(t)/t and (1-cos t)/t^2 with their Taylor limits near zero.
-    s = np.where(small, 1.0 - theta**2 / 6.0, np.sin(safe) / safe)
-    c = np.where(small, 0.5 - theta**2 / 24.0, (1.0 - np.cos(safe)) / safe**2)
-    eye = np.broadcast_to(np.eye(3), k.shape)
-    return eye + s * k + c * (k @ k)
+    # sin(t)/t and (1-cos t)/t^2 with their Taylor limits near zero (error < 1e-17 there).
+    s = np.where(small, 1.0 - t2 / 6.0, np.sin(safe) / safe)
+    c = np.where(small, 0.5 - t2 / 24.0, (1.0 - np.cos(safe)) / (safe * safe))
+    cxy, cxz, cyz = c * x * y, c * x * z, c * y * z
+    sx, sy, sz = s * x, s * y, s * z
+    out = np.empty((*v.shape[:-1], 3, 3))
+    out[..., 0, 0] = 1.0 - c * (yy + zz)
+    out[..., 0, 1] = cxy - sz
+    out[..., 0, 2] = cxz + sy
+    out[..., 1, 0] = cxy + sz
+    out[..., 1, 1] = 1.0 - c * (xx + zz)
+    out[..., 1, 2] = cyz - sx
+    out[..., 2, 0] = cxz - sy
+    out[..., 2, 1] = cyz + sx
+    out[..., 2, 2] = 1.0 - c * (xx + yy)
+    return out
 
 
 def matrix_to_rotvec(matrix: NDArray[np.float64]) -> NDArray[np.float64]:
