@@ -56,7 +56,11 @@ def uniform(eta: Array, omega: Array, a: Array, eps: Array) -> Array:
     eta, omega = np.broadcast_arrays(np.asarray(eta, float), np.asarray(omega, float))
     a = np.asarray(a, dtype=np.float64)
     d = np.stack(
-        [a[0] * np.cos(eta) * np.cos(omega), a[1] * np.cos(eta) * np.sin(omega), a[2] * np.sin(eta)],
+        [
+            a[0] * np.cos(eta) * np.cos(omega),
+            a[1] * np.cos(eta) * np.sin(omega),
+            a[2] * np.sin(eta),
+        ],
         -1,
     )
     return d * radial_scale(d, a, np.asarray(eps, dtype=np.float64))[..., None]

@@ -88,9 +88,7 @@ class Superquadric:
         if np.any(a <= 0):
             raise InvalidInputError(f"`a` must be > 0 (semi-axes [m]), got {a.tolist()}")
         if np.any(eps < EPS_MIN - _EPS_SLACK) or np.any(eps > EPS_MAX + _EPS_SLACK):
-            raise InvalidInputError(
-                f"`eps` must lie in [{EPS_MIN}, {EPS_MAX}], got {eps.tolist()}"
-            )
+            raise InvalidInputError(f"`eps` must lie in [{EPS_MIN}, {EPS_MAX}], got {eps.tolist()}")
         if np.any(np.abs(taper) > TAPER_MAX + _EPS_SLACK):
             raise InvalidInputError(f"`taper` must lie in [-1, 1], got {taper.tolist()}")
         if not is_rotation(rotation, tol=ROTATION_TOL):
