@@ -1,1 +1,19 @@
-"""hapticsim.fitting."""
+"""Superquadric fitting: the error of fit as an objective, least squares, the genetic algorithm,
+the hybrid, and the driver :func:`fit` (SPEC §2-3, paper II-B, II-C, IV).
+
+One algorithm per module, like ``scipy.optimize._lsq``:
+
+- :mod:`~hapticsim.fitting.objective`: EOF on raw parameter vectors, counting and budget;
+- :mod:`~hapticsim.fitting.initial`: the paper's initial estimate and normal-derived seeds;
+- :mod:`~hapticsim.fitting.least_squares`: LS and nLS (trust-region reflective);
+- :mod:`~hapticsim.fitting.genetic`: the genetic algorithm;
+- :mod:`~hapticsim.fitting.hybrid`: H and nH (genetic algorithm, then least squares);
+- :mod:`~hapticsim.fitting.methods`: method names and the default budget;
+- :mod:`~hapticsim.fitting.result`: :class:`FitResult`.
+"""
+
+from hapticsim.fitting.driver import fit
+from hapticsim.fitting.methods import DEFAULT_BUDGET, METHODS
+from hapticsim.fitting.result import FitResult
+
+__all__ = ["DEFAULT_BUDGET", "METHODS", "FitResult", "fit"]

@@ -1,0 +1,149 @@
+"""The public driver :func:`fit`: validate every argument, then dispatch to a method."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import (
+    as_generator,
+    finite_float,
+    normals_array,
+    points_array,
+    positive_int,
+    superquadric_arg,
+)
+from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.errors import InvalidInputError
+from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
+from hapticsim.fitting.initial import paper_initial, seed_vectors
+from hapticsim.fitting.least_squares import least_squares_run
+from hapticsim.fitting.methods import DEFAULT_BUDGET, HYBRID_METHODS, METHODS, uses_normals
+from hapticsim.fitting.objective import Objective
+from hapticsim.fitting.result import FitResult
+from hapticsim.geometry.eof import DISTANCES
+from hapticsim.geometry.superquadric import N_PARAMS, Superquadric
+
+Array = NDArray[np.float64]
+
+#: Default of :func:`fit`'s `distance`.
+DEFAULT_DISTANCE: str = "tapered"
+#: Singular-value ratio of the centred contacts below which they count as one line.
+LINE_TOLERANCE: float = 1e-6
+
+
+def _check_spread(points: Array) -> None:
+    """Reject contacts on one point or one line (a plane is fine: one face touched)."""
+    centred = points - points.mean(axis=0)
+    sv = np.linalg.svd(centred, compute_uv=False)
+    scale = max(float(np.abs(points).max()), 1e-300)
+    if sv[0] <= 1e-12 * scale * np.sqrt(len(points)):
+        raise InvalidInputError("`points` are all at one location: cannot fit a solid")
+    if sv[1] <= LINE_TOLERANCE * sv[0]:
+        raise InvalidInputError("`points` all lie on one line: cannot fit a solid")
+
+
+def fit(
+    points: Any,
+    normals: Any | None = None,
+    method: str = "nH",
+    budget: int | None = None,
+    rng: np.random.Generator | int | None = None,
+    lam: float = DEFAULT_LAMBDA,
+    initial: Superquadric | None = None,
+    distance: str = DEFAULT_DISTANCE,
+) -> FitResult:
+    """Fit a superquadric to contact points (and normals) with one of the paper's methods.
+
+    Args:
+        points: (n, 3) float, contact locations [m, world], n >= 13 (one per parameter), finite,
+            not all on one line.
+        normals: (n, 3) float outward normals (normalised here), needed by nLS and nH; LS and H
+            ignore them (they are still checked when given).
+        method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"`` (SPEC §3).
+        budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
+        rng: seed or generator of the genetic algorithm; the same seed gives the same result,
+            bit for bit.
+        lam: weight lambda of the normal term (SPEC §2), >= 0.
+        initial: a warm start: LS and nLS start from it instead of the paper's initial estimate,
+            H and nH add it to the seeds of the genetic algorithm.
+        distance: how the search measures the contact distance D1: ``"untapered"`` is SPEC §2
+            exactly; ``"tapered"`` measures the same radial distance on the tapered solid (see
+            :func:`hapticsim.geometry.eof.contact_residuals`). The reported ``eof`` is always
+            the SPEC §2 EOF of the estimate.
+
+    Returns:
+        The :class:`~hapticsim.fitting.result.FitResult`.
+
+    Raises:
+        InvalidInputError: any argument out of its domain; the message names it.
+    """
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
+    pts = points_array(points, "points", min_count=N_PARAMS)
+    nrm = None if normals is None else normals_array(normals, len(pts), "normals")
+    if uses_normals(method) and nrm is None:
+        raise InvalidInputError(f"method {method} needs `normals`; use LS or H for points only")
+    n_evals = DEFAULT_BUDGET if budget is None else positive_int(budget, "budget")
+    gen = as_generator(rng)
+    weight = finite_float(lam, "lam", low=0.0)
+    warm = None if initial is None else superquadric_arg(initial, "initial")
+    if distance not in DISTANCES:
+        raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
+    _check_spread(pts)
+    spec = distance == "untapered"
+    if not spec and n_evals < 2:
+        raise InvalidInputError(f'`budget` must be >= 2 with distance="{distance}", got {n_evals}')
+
+    start = time.perf_counter()
+    with _single_threaded_blas():
+        # A search in another metric keeps one evaluation back to report the SPEC EOF.
+        data_normals = nrm if uses_normals(method) else None
+        objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
+        if method in HYBRID_METHODS:
+            seeds = seed_vectors(pts, objective.normals, warm)
+            _, status = hybrid_search(objective, seeds, gen, HybridOptions())
+        else:
+            x0 = (warm if warm is not None else paper_initial(pts)).to_vector()
+            status = least_squares_run(objective, x0).status
+        best = objective.best_vector
+        evaluations, eof = objective.evaluations, objective.best_eof
+        if not spec:
+            report = Objective(pts, data_normals, weight, 1)
+            eof, evaluations = float(report.eof(best[None])[0]), evaluations + 1
+    seconds = time.perf_counter() - start
+    return FitResult(
+        superquadric=Superquadric.from_vector(best),
+        method=method,
+        eof=eof,
+        evaluations=evaluations,
+        seconds=seconds,
+        history=objective.history(),
+        status=status,
+        message=_MESSAGES[status],
+    )
+
+
+_MESSAGES = {
+    "converged": "least squares converged",
+    "budget": "evaluation budget used up",
+    "stall": "genetic algorithm stalled",
+    "generations": "generation limit reached",
+    "target": "target EOF reached",
+}
+
+
+_CONTROLLER: Any = None
+
+
+def _single_threaded_blas() -> Any:
+    """Limit BLAS to one thread: OpenBLAS threads slow these small products down many times."""
+    global _CONTROLLER
+    if _CONTROLLER is None:
+        from threadpoolctl import ThreadpoolController
+
+        _CONTROLLER = ThreadpoolController()
+    return _CONTROLLER.limit(limits=1, user_api="blas")

@@ -1,0 +1,122 @@
+"""The hybrid minimiser of H and nH: genetic algorithm, then least squares (paper II-C).
+
+Budget split: the genetic algorithm gets :attr:`HybridOptions.ga_fraction` of the evaluations
+(it stops earlier when it stalls); all the rest goes to least squares, in two rounds:
+
+1. *probe*: :attr:`HybridOptions.probe_steps` Levenberg-Marquardt steps, all at once
+   (:mod:`~hapticsim.fitting.batch_lm`), from up to :attr:`HybridOptions.polish` individuals of
+   the last generation, best first, that are different solids
+   (:func:`~hapticsim.fitting.genetic.solid_distance` > 1): the crowding GA keeps niches around
+   several local minima, and on sparse data the GA's best is often not in the deepest basin,
+   while a few least-squares steps tell the basins apart;
+2. *polish*: scipy's least squares (:mod:`~hapticsim.fitting.least_squares`) from the probe
+   that reached the lowest EOF, with everything that is left.
+
+Before the genetic algorithm, all seeds take :attr:`HybridOptions.seed_steps` such steps too.
+
+The result is the lowest EOF seen (``objective.best_vector``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.fitting.batch_lm import batch_levenberg_marquardt, evaluations_per_step
+from hapticsim.fitting.genetic import GeneticOptions, GeneticRun, genetic_search, solid_distance
+from hapticsim.fitting.least_squares import MIN_RUN_EVALUATIONS, least_squares_run
+from hapticsim.fitting.objective import Objective
+from hapticsim.geometry.rotations import rotvec_to_matrix
+from hapticsim.geometry.superquadric import N_PARAMS, SLICE_ROTVEC
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class HybridOptions:
+    """Settings of :func:`hybrid_search`.
+
+    Attributes:
+        ga_fraction: share of the budget for the genetic algorithm, in (0, 1].
+        polish: most distinct GA individuals probed by least squares, >= 1.
+        probe_steps: Levenberg-Marquardt steps of the probe (all starts at once), >= 1.
+        seed_steps: Levenberg-Marquardt steps on all seeds before the genetic algorithm
+            (:mod:`~hapticsim.fitting.batch_lm`), >= 0.
+        genetic: settings of the genetic algorithm.
+    """
+
+    ga_fraction: float = 0.5
+    polish: int = 4
+    probe_steps: int = 8
+    seed_steps: int = 3
+    genetic: GeneticOptions = field(default_factory=GeneticOptions)
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.ga_fraction <= 1.0:
+            raise InvalidInputError(f"`ga_fraction` must lie in (0, 1], got {self.ga_fraction}")
+        if self.polish < 1:
+            raise InvalidInputError(f"`polish` must be >= 1, got {self.polish}")
+        if self.probe_steps < 1 or self.seed_steps < 0:
+            raise InvalidInputError(
+                f"`probe_steps` must be >= 1 and `seed_steps` >= 0, got {self.probe_steps} and "
+                f"{self.seed_steps}"
+            )
+
+
+def distinct_starts(run: GeneticRun, count: int, size: float) -> list[Array]:
+    """Up to `count` individuals of the last generation, best first, pairwise different solids
+    (:func:`~hapticsim.fitting.genetic.solid_distance` > 1)."""
+    rot = rotvec_to_matrix(run.population[:, SLICE_ROTVEC])
+    chosen: list[int] = []
+    for i in range(len(run.population)):
+        if chosen:
+            dist = solid_distance(
+                np.repeat(run.population[i : i + 1], len(chosen), axis=0),
+                np.repeat(rot[i : i + 1], len(chosen), axis=0),
+                run.population[chosen], rot[chosen], size,
+            )  # fmt: skip
+            if np.min(dist) <= 1.0:
+                continue
+        chosen.append(i)
+        if len(chosen) == count:
+            break
+    return [run.population[i] for i in chosen]
+
+
+def hybrid_search(
+    objective: Objective,
+    seeds: Array,
+    rng: np.random.Generator,
+    options: HybridOptions | None = None,
+) -> tuple[GeneticRun, str]:
+    """Genetic algorithm then least squares (probe, polish), within the objective's budget.
+
+    Args:
+        objective: the EOF and its budget; ``objective.best_vector`` holds the result.
+        seeds: (k, 13) start vectors of the genetic algorithm.
+        rng: the generator of every random choice.
+        options: settings (default :class:`HybridOptions`).
+
+    Returns:
+        The genetic run and a status: ``"converged"`` when the final least-squares run
+        converged, ``"budget"`` when it ran out of evaluations, or the genetic algorithm's
+        status when nothing was left for least squares.
+    """
+    opt = HybridOptions() if options is None else options
+    if opt.seed_steps and objective.remaining >= len(seeds) + evaluations_per_step(len(seeds)):
+        seeds, _ = batch_levenberg_marquardt(objective, seeds, opt.seed_steps)
+    ga_budget = max(1, int(opt.ga_fraction * objective.remaining))
+    if objective.remaining - ga_budget < MIN_RUN_EVALUATIONS:
+        ga_budget = objective.remaining
+    run = genetic_search(objective, seeds, rng, ga_budget, opt.genetic)
+    starts = np.array(distinct_starts(run, opt.polish, objective.bounds.size))
+    if objective.remaining < MIN_RUN_EVALUATIONS or not len(starts):
+        return run, run.status
+    probe_cost = len(starts) * opt.probe_steps * (N_PARAMS + 1)
+    if len(starts) > 1 and objective.remaining >= probe_cost + MIN_RUN_EVALUATIONS:
+        starts, eof = batch_levenberg_marquardt(objective, starts, opt.probe_steps)
+        starts = starts[np.argsort(eof, kind="stable")]
+    return run, least_squares_run(objective, starts[0]).status

@@ -1,0 +1,174 @@
+"""Initial estimates: the paper's (Section II-B) and seeds derived from the contact normals.
+
+:func:`paper_initial` is the start of LS and nLS: the centroid, the principal axes of the
+covariance and the half extents along them, an ellipsoid (eps1 = eps2 = 1), no taper.
+
+For sparse, one-sided contacts the principal axes say little about the orientation of a box or a
+cylinder (a corner patch and a few stripes have no reason to spread along the body axes), and the
+centroid lies on the touched side. The normals say more: on a flat face they all point one way, so
+the dominant normal directions are face normals, and the centre lies behind each face. The genetic
+algorithm starts from :func:`seed_vectors`: every candidate frame (principal axes of the points,
+of the normals, and frames built from the dominant normal directions), each of its three axes
+taken as the body z axis (the solid is not symmetric under such a permutation), and a few shape
+classes (ellipsoid, box, cylinder).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.geometry.rotations import matrix_to_rotvec
+from hapticsim.geometry.superquadric import N_PARAMS, Superquadric
+
+Array = NDArray[np.float64]
+
+#: Shape classes of the seeds, (eps1, eps2): ellipsoid, box, cylinder (SPEC §1).
+SEED_SHAPES: tuple[tuple[float, float], ...] = ((1.0, 1.0), (0.2, 0.2), (0.2, 1.0))
+#: Half-angle of the cone of normals counted as one direction (face) [rad].
+FACE_CONE: float = np.deg2rad(25.0)
+#: Fewest contacts (as a fraction) that make a dominant normal direction.
+FACE_MIN_FRACTION: float = 0.08
+
+
+def _proper(frame: Array) -> Array:
+    """The frame (columns) with its last column flipped if needed, so that det = +1."""
+    frame = np.array(frame, dtype=np.float64)
+    if np.linalg.det(frame) < 0:
+        frame[:, 2] *= -1.0
+    return frame
+
+
+def principal_axes(points_world: Array) -> Array:
+    """(3, 3) rotation whose columns are the principal axes of the points, spread ascending.
+
+    The largest spread becomes the body z axis.
+    """
+    centred = points_world - points_world.mean(axis=0)
+    _, vecs = np.linalg.eigh(centred.T @ centred)
+    return _proper(vecs)
+
+
+def extents(points_world: Array, rotation: Array) -> tuple[Array, Array]:
+    """Centre [m] (3,) of the bounding box of the points in the frame, and its half sizes (3,)."""
+    proj = points_world @ rotation
+    lo, hi = proj.min(axis=0), proj.max(axis=0)
+    return rotation @ ((lo + hi) / 2.0), (hi - lo) / 2.0
+
+
+def paper_initial(points_world: Array) -> Superquadric:
+    """The paper's initial estimate (II-B) of contacts (n, 3) [m].
+
+    Centre at the centroid, rotation from the principal axes (largest spread on z), semi-axes
+    half the spread of the contacts along each axis (at least 1e-3 of the largest), ellipsoid
+    (eps1 = eps2 = 1), no taper.
+    """
+    rotation = principal_axes(points_world)
+    _, half = extents(points_world, rotation)
+    half = np.maximum(half, 1e-3 * max(float(half.max()), 1e-12))
+    return Superquadric(a=half, eps=(1.0, 1.0), rotation=rotation, center=points_world.mean(0))
+
+
+def dominant_directions(normals_world: Array, max_count: int = 3) -> list[Array]:
+    """Up to `max_count` dominant unit directions of the normals (greedy cone clustering).
+
+    Repeatedly takes the normal with the most others within :data:`FACE_CONE`, the mean of that
+    cone as a direction, and removes the cone's normals; stops when a cone holds fewer than
+    :data:`FACE_MIN_FRACTION` of the contacts.
+    """
+    n = normals_world.shape[0]
+    left = np.ones(n, dtype=bool)
+    cos_cone = np.cos(FACE_CONE)
+    dots = normals_world @ normals_world.T
+    out: list[Array] = []
+    while len(out) < max_count:
+        close = (dots > cos_cone) & left[None, :] & left[:, None]
+        support = close.sum(axis=1)
+        best = int(np.argmax(support))
+        if support[best] < max(3, FACE_MIN_FRACTION * n):
+            break
+        mean = normals_world[close[best]].sum(axis=0)
+        out.append(mean / np.linalg.norm(mean))
+        left &= normals_world @ out[-1] <= cos_cone
+    return out
+
+
+def normal_frames(normals_world: Array) -> list[Array]:
+    """Candidate rotations from the normals: their principal axes, and frames of face pairs.
+
+    Two dominant directions that are roughly orthogonal (within 30 degrees) span a frame
+    (Gram-Schmidt, third axis by cross product); two roughly opposite ones fix one axis, and the
+    principal axes of the normals the other two.
+    """
+    _, vecs = np.linalg.eigh(normals_world.T @ normals_world)
+    frames = [_proper(vecs)]
+    dirs = dominant_directions(normals_world)
+    for i in range(len(dirs)):
+        for j in range(i + 1, len(dirs)):
+            c = float(dirs[i] @ dirs[j])
+            if abs(c) < np.sin(np.deg2rad(30.0)):
+                u = dirs[i]
+                v = dirs[j] - c * u
+                v /= np.linalg.norm(v)
+                frames.append(np.stack([u, v, np.cross(u, v)], axis=1))
+    for d in dirs:
+        # One face direction with the two normal principal axes most orthogonal to it.
+        others = sorted(range(3), key=lambda k: abs(float(vecs[:, k] @ d)))[:2]
+        u = vecs[:, others[0]] - (vecs[:, others[0]] @ d) * d
+        u /= np.linalg.norm(u)
+        frames.append(np.stack([u, np.cross(d, u), d], axis=1))
+    return frames
+
+
+def _frame_seed(
+    points_world: Array, normals_world: Array | None, rotation: Array
+) -> tuple[Array, Array]:
+    """Centre [m] and semi-axes [m] of a box in the frame, pushed behind one-sided faces.
+
+    Along each axis the contacts span [lo, hi]. Where the normals show only the face at hi
+    (or lo), the body lies behind it: the semi-axis is at least the mean of the other two, and
+    the centre sits that far inside the face.
+    """
+    proj = points_world @ rotation
+    lo, hi = proj.min(axis=0), proj.max(axis=0)
+    half = np.maximum((hi - lo) / 2.0, 1e-3 * max(float((hi - lo).max()), 1e-12))
+    mid = (lo + hi) / 2.0
+    if normals_world is not None:
+        along = normals_world @ rotation
+        for k in range(3):
+            plus = bool(np.any(along[:, k] > np.cos(FACE_CONE)))
+            minus = bool(np.any(along[:, k] < -np.cos(FACE_CONE)))
+            if plus != minus:
+                depth = max(half[k], float(np.mean(np.delete(half, k))))
+                half[k] = depth
+                mid[k] = hi[k] - depth if plus else lo[k] + depth
+    return rotation @ mid, half
+
+
+def seed_vectors(
+    points_world: Array, normals_world: Array | None, initial: Superquadric | None = None
+) -> Array:
+    """Seed parameter vectors (k, 13) for the global search.
+
+    Frames: the principal axes of the points and, with normals, :func:`normal_frames`. For each
+    frame and each choice of its z axis (cyclic permutations of the columns, which keep det = +1),
+    a box-like placement (:func:`_frame_seed`) with each shape of :data:`SEED_SHAPES`, no taper.
+    The paper's initial estimate comes first, and `initial` (a warm start) before it.
+    """
+    seeds = []
+    if initial is not None:
+        seeds.append(initial.to_vector())
+    seeds.append(paper_initial(points_world).to_vector())
+    frames = [principal_axes(points_world)]
+    if normals_world is not None:
+        frames += normal_frames(normals_world)
+    for frame in frames:
+        for shift in range(3):
+            rotation = np.roll(frame, shift, axis=1)
+            center, half = _frame_seed(points_world, normals_world, rotation)
+            rotvec = matrix_to_rotvec(rotation)
+            for eps in SEED_SHAPES:
+                v = np.empty(N_PARAMS)
+                v[0:3], v[3:5], v[5:7], v[7:10], v[10:13] = half, eps, 0.0, rotvec, center
+                seeds.append(v)
+    return np.array(seeds)

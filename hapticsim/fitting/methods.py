@@ -1,0 +1,28 @@
+"""The four estimation schemes of the paper (Section IV, SPEC §3) and their defaults.
+
+=======  ================  ==========================================================
+name     data              minimiser
+=======  ================  ==========================================================
+``LS``   points            least squares from the paper's initial estimate
+``H``    points            genetic algorithm, then least squares (hybrid)
+``nLS``  points, normals   as LS, EOF with normals
+``nH``   points, normals   as H, EOF with normals
+=======  ================  ==========================================================
+"""
+
+from __future__ import annotations
+
+#: Method names, in the paper's order.
+METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
+#: Methods whose EOF uses the contact normals.
+NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH"})
+#: Methods with the genetic algorithm.
+HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH"})
+#: Default evaluation budget of every method (EOF evaluations, SPEC §3). Chosen so that a
+#: default nH fit of 150 contacts takes at most 0.5 s (median) on the development machine.
+DEFAULT_BUDGET: int = 6000
+
+
+def uses_normals(method: str) -> bool:
+    """Whether `method` fits the normals too (nLS, nH)."""
+    return method in NORMAL_METHODS

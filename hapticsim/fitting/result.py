@@ -1,0 +1,76 @@
+"""The result of a fit: :class:`FitResult` (like scipy's ``OptimizeResult``, but frozen)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.superquadric import Superquadric
+
+#: Values of :attr:`FitResult.status`.
+STATUSES: tuple[str, ...] = ("converged", "budget", "stall", "generations", "target")
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """A fitted superquadric and how it was found.
+
+    Attributes:
+        superquadric: the estimate.
+        method: the method name (one of :data:`hapticsim.fitting.methods.METHODS`).
+        eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H).
+        evaluations: EOF evaluations used (SPEC §3), <= the budget.
+        seconds: wall-clock time of the fit [s].
+        history: ``(evaluations (k,) int, best EOF so far (k,) float)``, after each call of the
+            EOF (a population or a single vector).
+        status: why the fit stopped, one of :data:`STATUSES`: ``"converged"`` (least squares
+            met its tolerances), ``"budget"`` (evaluations used up), or the genetic algorithm's
+            ``"stall"``, ``"generations"``, ``"target"`` when nothing was left to polish.
+        message: a sentence on the same.
+    """
+
+    superquadric: Superquadric
+    method: str
+    eof: float
+    evaluations: int
+    seconds: float
+    history: tuple[NDArray[np.int64], NDArray[np.float64]]
+    status: str
+    message: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.superquadric, Superquadric):
+            raise InvalidInputError(
+                f"`superquadric` must be a Superquadric, got {type(self.superquadric).__name__}"
+            )
+        if self.status not in STATUSES:
+            raise InvalidInputError(f"`status` must be one of {STATUSES}, got {self.status!r}")
+        evals, best = (np.asarray(h) for h in self.history)
+        if evals.shape != best.shape or evals.ndim != 1:
+            raise InvalidInputError(
+                "`history` must be two 1-D arrays of one length, got shapes "
+                f"{evals.shape} and {best.shape}"
+            )
+        for arr in (evals, best):
+            arr.setflags(write=False)
+        object.__setattr__(self, "history", (evals, best))
+        object.__setattr__(self, "eof", float(self.eof))
+        object.__setattr__(self, "evaluations", int(self.evaluations))
+        object.__setattr__(self, "seconds", float(self.seconds))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``, and
+        ``status`` and ``message`` (the history is left out: see :attr:`history`)."""
+        return {
+            "superquadric": self.superquadric.to_dict(),
+            "method": self.method,
+            "eof": self.eof,
+            "evaluations": self.evaluations,
+            "seconds": self.seconds,
+            "status": self.status,
+            "message": self.message,
+        }
