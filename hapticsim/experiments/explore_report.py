@@ -57,8 +57,9 @@ def exploration_figure_png(
     half = max(float(np.max(truth.a * (1 + np.r_[np.abs(truth.taper), 0.0]))) * 1000.0, 10.0)
     center = truth.center * 1000.0
     arrow = 0.25 * half
-    for k, (panel, show_estimate) in enumerate((("contacts and normals", False),
-                                               ("estimate (orange) over truth (blue)", True))):
+    for k, (panel, show_estimate) in enumerate(
+        (("contacts and normals", False), ("estimate (orange) over truth (blue)", True))
+    ):
         ax = fig.add_subplot(1, 2, k + 1, projection="3d")
         _surface(ax, truth, "tab:blue", 0.18 if show_estimate else 0.25)
         if show_estimate and estimate is not None:
@@ -66,8 +67,13 @@ def exploration_figure_png(
         for f in np.unique(finger):
             sel = finger == f
             color = FINGER_COLORS[int(f) % len(FINGER_COLORS)]
-            ax.scatter(*pts[sel].T, s=6, color=color, depthshade=False,
-                       label=FINGER_LABELS[int(f)] if int(f) < len(FINGER_LABELS) else str(f))
+            ax.scatter(
+                *pts[sel].T,
+                s=6,
+                color=color,
+                depthshade=False,
+                label=FINGER_LABELS[int(f)] if int(f) < len(FINGER_LABELS) else str(f),
+            )
             if not show_estimate:
                 ax.quiver(*pts[sel].T, *(nrm[sel] * arrow).T, color=color, linewidth=0.6,
                           arrow_length_ratio=0.25)  # fmt: skip

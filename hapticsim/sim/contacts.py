@@ -78,41 +78,38 @@ def read_contacts(
     """
     n_fingers = len(hand.fingers)
     best: list[FingertipContact | None] = [None] * n_fingers
-    other = 0
-    table = 0
     ncon = int(data.ncon)
     if ncon == 0:
         return ContactState(tuple(best), 0, 0)
-    geoms = data.contact.geom[:ncon]
+    con = data.contact
+    geoms = con.geom[:ncon]
+    g0, g1 = geoms[:, 0], geoms[:, 1]
+    first = g0 == object_geom_id
+    with_object = first | (g1 == object_geom_id)
+    hand_geom = np.where(first, g1, g0)
+    is_tip = with_object & hand.geom_is_tip[hand_geom]
+    other = int(np.count_nonzero(with_object & ~is_tip))
+    table = int(np.count_nonzero(~with_object & (hand.geom_is_hand[g0] | hand.geom_is_hand[g1])))
+    if not is_tip.any():
+        return ContactState(tuple(best), other, table)
     force6 = np.zeros(6)
-    for i in range(ncon):
-        g0, g1 = int(geoms[i, 0]), int(geoms[i, 1])
-        if g0 == object_geom_id:
-            hand_geom, sign = g1, 1.0  # frame points from the object to the hand: outward
-        elif g1 == object_geom_id:
-            hand_geom, sign = g0, -1.0
-        else:
-            if hand.geom_is_hand[g0] or hand.geom_is_hand[g1]:
-                table += 1
-            continue
-        if not hand.geom_is_tip[hand_geom]:
-            other += 1
-            continue
-        con = data.contact[i]
-        normal = sign * np.array(con.frame[:3])
-        dist = float(con.dist)
-        point = np.array(con.pos) - 0.5 * dist * normal
-        if con.efc_address >= 0:
+    now = float(data.time)
+    frames, positions, dists, efc = con.frame, con.pos, con.dist, con.efc_address
+    for i in np.flatnonzero(is_tip).tolist():
+        # the frame points from geom[0] to geom[1]: outward when the object is geom[0]
+        normal = frames[i, :3] if first[i] else -frames[i, :3]
+        dist = float(dists[i])
+        point = positions[i] - 0.5 * dist * normal
+        force = 0.0
+        if efc[i] >= 0:
             mujoco.mj_contactForce(model, data, i, force6)
             force = max(float(force6[0]), 0.0)
-        else:
-            force = 0.0
-        finger = int(hand.geom_finger[hand_geom])
+        finger = int(hand.geom_finger[hand_geom[i]])
         current = best[finger]
         if current is None or force > current.force:
             best[finger] = FingertipContact(
                 finger=finger, point_world=point, normal_world=normal, force=force, dist=dist,
-                time=float(data.time),
+                time=now,
             )  # fmt: skip
     return ContactState(tuple(best), other, table)
 

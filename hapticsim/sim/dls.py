@@ -39,4 +39,5 @@ def dls_step(jacobian: Array, error: Array, damping: float) -> Array:
     y2 = (c02 * e0 + c12 * e1 + c22 * e2) / det
     return np.array([a * y0 + b * y1 + c * y2 for a, b, c in zip(r0, r1, r2, strict=True)])
 
+
 __all__ = ["dls_step"]

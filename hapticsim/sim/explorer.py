@@ -50,6 +50,7 @@ class ExplorerConfig:
         back_off: distance [m] the palm backs off along the approach before and after transit.
         max_sim_time: longest simulated time of one exploration [s].
         pattern_timeout: longest simulated time of one pattern [s].
+        max_misses: the exploration gives up after this many probes in a row met nothing.
     """
 
     probe: ProbeConfig = field(default_factory=ProbeConfig)
@@ -58,6 +59,7 @@ class ExplorerConfig:
     back_off: float = 0.05
     max_sim_time: float = 120.0
     pattern_timeout: float = 20.0
+    max_misses: int = 30
 
     def __post_init__(self) -> None:
         for name in ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"):
@@ -115,14 +117,13 @@ class Explorer:
         self.sim = Simulator(scene)
         planning_scene = build_scene(
             rough.shape,
-            SceneConfig(
-                mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=scene.config.workspace
-            ),
+            SceneConfig(mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=scene.config.workspace),
         )
         self.planner = PalmPlanner(planning_scene)
         self.patterns_run = 0
         self.log: list[dict[str, object]] = []
         self._approach = np.array([0.0, 0.0, -1.0])
+        self.misses = 0
         self.home()
 
     # ------------------------------------------------------------------ palm motion
@@ -139,8 +140,8 @@ class Explorer:
 
     @property
     def out_of_time(self) -> bool:
-        """True when the simulated-time budget is used up."""
-        return self.sim.time > self.config.max_sim_time
+        """True when the simulated-time budget is used up or too many probes in a row missed."""
+        return self.sim.time > self.config.max_sim_time or self.misses >= self.config.max_misses
 
     def _go(self, position: Array, rotation: Array, settle: bool = False) -> None:
         sim = self.sim
@@ -240,6 +241,13 @@ class Explorer:
             sim.set_tip_target(t.finger, sim.tip_world(t.finger))
         self.patterns_run += 1
         for t in tasks:
+            if t.recorded > 0:
+                self.misses = 0
+            elif isinstance(t, ProbeTask):
+                self.misses += t.failed
+            else:
+                self.misses += 1
+        for t in tasks:
             self.log.append(
                 {"task": type(t).__name__, "finger": t.finger, "recorded": t.recorded,
                  "message": t.message, "time": round(sim.time, 4)}
@@ -277,7 +285,8 @@ class Explorer:
             if not group:  # the nominal posture itself reaches `first`'s aim
                 group, rest = [first], [p for p in remaining if p is not first]
             self.move_palm(pose, mean_dir, {finger: posture})
-            self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe)])
+            limit = self.config.max_misses - self.misses
+            self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe, limit)])
             remaining = rest
         return len(self.recorder) - before
 
@@ -313,7 +322,8 @@ class Explorer:
             )  # fmt: skip
         for finger, probes in extra:
             pattern = self.recorder.new_pattern("patch")
-            tasks.append(ProbeTask(finger, probes, self.recorder, pattern, self.config.probe))
+            tasks.append(ProbeTask(finger, probes, self.recorder, pattern, self.config.probe,
+                                   self.config.max_misses))  # fmt: skip
         self.run(tasks)
         return len(self.recorder) - before
 

@@ -4,8 +4,10 @@ MuJoCo collides with a mesh's convex hull. The uniform parametrisation (paper eq
 vertices evenly over faces but leaves the rounded edges of box-like shapes (eps ~ 0.1) with a
 single chamfer of vertices, where hull normals are off by 10-20 degrees; the natural
 parametrisation (eq. 1) crowds vertices into exactly those edges. The collision mesh is the
-convex hull of the vertices of both meshes (:meth:`Superquadric.to_mesh` with each
-parametrisation): every vertex lies on the true surface, faces and edges are both well sampled.
+convex hull of the vertices of both meshes (the grids of :meth:`Superquadric.to_mesh` with each
+parametrisation, taken from :func:`hapticsim.geometry.mesh.surface_grid` without building trimesh
+objects): every vertex lies on the true surface, faces and edges are both well sampled. MuJoCo
+builds the hull itself (a mesh asset given without faces is its vertices' convex hull).
 """
 
 from __future__ import annotations
@@ -13,39 +15,30 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim._validate import positive_int
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh import surface_grid
 
 Array = NDArray[np.float64]
 
 
-def object_mesh(shape_body: Superquadric, resolution: int) -> tuple[Array, NDArray[np.int64]]:
-    """Vertices and faces of the collision mesh of a superquadric, in its body frame.
+def object_vertices(shape: Superquadric, resolution: int) -> Array:
+    """Vertices of the collision mesh of a superquadric, in its body frame.
 
     Args:
-        shape_body: the superquadric (its pose is ignored: the mesh is in the body frame).
-        resolution: longitudes of each of the two meshes (see :meth:`Superquadric.to_mesh`).
+        shape: the superquadric (its pose is ignored: vertices are in the body frame).
+        resolution: longitudes of each of the two grids (``res * (res // 2 - 1) + 2`` vertices
+            each, see :meth:`Superquadric.to_mesh`), >= 8.
 
     Returns:
-        vertices (n, 3) float [m, body frame] and faces (m, 3) int of the convex hull, outward.
+        (n, 3) float, distinct surface points [m, body frame] whose convex hull is the mesh.
     """
-    from scipy.spatial import ConvexHull
-
-    body = shape_body.replace(rotation=np.eye(3), center=np.zeros(3))
+    res = positive_int(resolution, "resolution", minimum=8)
+    body = shape.replace(rotation=np.eye(3), center=np.zeros(3))
     vertices = np.concatenate(
-        [body.to_mesh(resolution, "uniform").vertices, body.to_mesh(resolution, "natural").vertices]
+        [surface_grid(body, res, "uniform")[0], surface_grid(body, res, "natural")[0]]
     )
-    vertices = np.unique(np.round(vertices, 12), axis=0)
-    hull = ConvexHull(vertices)
-    faces = hull.simplices.copy()
-    # orient outward: the normal of each face must point away from the centroid
-    tri = vertices[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    flip = np.einsum("ij,ij->i", normal, tri[:, 0] - vertices.mean(axis=0)) < 0
-    faces[flip] = faces[flip][:, ::-1]
-    used = np.unique(faces)
-    remap = np.full(len(vertices), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    return vertices[used], remap[faces]
+    return np.unique(np.round(vertices, 12), axis=0)
 
 
-__all__ = ["object_mesh"]
+__all__ = ["object_vertices"]

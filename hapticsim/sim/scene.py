@@ -1,8 +1,9 @@
 """A scene: the hand, a table and one superquadric object, composed with ``mujoco.MjSpec``.
 
 The object is a static body (the paper keeps it fixed during exploration) whose collision geom is
-the superquadric meshed by :meth:`Superquadric.to_mesh` in its body frame; MuJoCo collides with
-the mesh's convex hull (``maxhullvert`` left at its default). The object stands on a thin post
+the superquadric meshed in its body frame (:mod:`~hapticsim.sim.object_mesh`: the hull of the
+vertices of :meth:`Superquadric.to_mesh` in both parametrisations); MuJoCo collides with the
+mesh's convex hull (``maxhullvert`` left at its default). The object stands on a thin post
 (the *stand*) :data:`STAND_HEIGHT` above the table, so that the fingers can reach around its
 bottom edges. The ground truth travels with the scene (:attr:`Scene.truth`).
 """
@@ -20,7 +21,7 @@ from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
 from hapticsim.sim.hand import Hand
 from hapticsim.sim.models import model_path
-from hapticsim.sim.object_mesh import object_mesh
+from hapticsim.sim.object_mesh import object_vertices
 from hapticsim.sim.workspace import Workspace
 
 Array = NDArray[np.float64]
@@ -112,10 +113,8 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
     spec = mujoco.MjSpec.from_file(str(model_path("hand.xml")))
     spec.option.timestep = config.timestep
 
-    vertices, faces = object_mesh(truth, config.mesh_resolution)
-    spec.add_mesh(
-        name=OBJECT_NAME, uservert=vertices.ravel().tolist(), userface=faces.ravel().tolist()
-    )
+    vertices = object_vertices(truth, config.mesh_resolution)
+    spec.add_mesh(name=OBJECT_NAME, uservert=vertices.ravel().tolist())
     body = spec.worldbody.add_body(
         name=OBJECT_NAME, pos=truth.center.tolist(), quat=truth.quaternion.tolist()
     )

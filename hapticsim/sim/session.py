@@ -76,6 +76,7 @@ def run_exploration(
     config: ExplorerConfig | None = None,
     progress: Callable[[int], None] | None = None,
     on_pattern_end: Callable[[Explorer], None] | None = None,
+    rough: RoughObject | None = None,
 ) -> Exploration:
     """Explore an object with the hand and return the recorded (clean) contacts.
 
@@ -88,6 +89,8 @@ def run_exploration(
         config: explorer options.
         progress: called with the number of contacts after every pattern.
         on_pattern_end: called with the explorer after every pattern.
+        rough: what the controllers know about the object (default: a vision estimate,
+            :func:`~hapticsim.sim.rough.vision_estimate`, drawn from `rng`).
 
     Returns:
         The exploration.
@@ -104,7 +107,8 @@ def run_exploration(
     rough_rng, strategy_rng = gen.spawn(2)
     start = time.perf_counter()
     scene = build_scene(truth, scene_config)
-    rough = vision_estimate(truth, rough_rng)
+    if rough is None:
+        rough = vision_estimate(truth, rough_rng)
     recorder = Recorder(count)
     explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end)
     run_strategy(explorer, count, strategy_rng)

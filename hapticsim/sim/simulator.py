@@ -6,8 +6,9 @@ The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each
 2. for every finger with a Cartesian tip target sets the position actuators to
    ``q + dls_step(J_tip, clip(target - tip))`` with ``J_tip`` from ``mj_jacSite``; a finger
    without a tip target is servoed to a joint posture,
-3. steps the physics ``control_steps`` times and checks for instability (``mjWARN_BADQACC`` or a
-   non-finite state), raising :class:`~hapticsim.errors.SimulationError`,
+3. steps the physics ``control_steps`` times and checks for instability (``mjWARN_BADQACC``,
+   ``BADQVEL``, ``BADQPOS`` -- after which MuJoCo silently resets the state -- or a non-finite
+   state), raising :class:`~hapticsim.errors.SimulationError`,
 4. reads the fingertip contacts (:func:`~hapticsim.sim.contacts.read_contacts`).
 """
 
@@ -28,7 +29,15 @@ from hapticsim.sim.scene import Scene
 
 Array = NDArray[np.float64]
 
-_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+#: MuJoCo warnings of a state gone bad; MuJoCo resets the state when they fire.
+_BAD_STATE = tuple(
+    int(w)
+    for w in (
+        mujoco.mjtWarning.mjWARN_BADQACC,
+        mujoco.mjtWarning.mjWARN_BADQVEL,
+        mujoco.mjtWarning.mjWARN_BADQPOS,
+    )
+)
 #: Joint posture [rad] (abduction, proximal, distal flexion) of a finger out of the way.
 TUCKED_POSTURE: Array = np.array([0.0, 1.5, 1.9])
 #: Joint posture [rad] of a finger ready to probe (distal link about 55 deg from the palm).
@@ -88,6 +97,7 @@ class Simulator:
         self._posture: list[Array] = [TUCKED_POSTURE.copy() for _ in range(n)]
         self._palm_goal_pos = np.zeros(3)
         self._palm_goal_quat = np.array([1.0, 0.0, 0.0, 0.0])
+        self._palm_reached = True
         self.contacts = ContactState((None,) * n, 0, 0)
 
     # ------------------------------------------------------------------ state
@@ -123,6 +133,7 @@ class Simulator:
             self._tip_target[f.index] = None
         self._palm_goal_pos = pos.copy()
         self._palm_goal_quat = quat.copy()
+        self._palm_reached = True
         self.steps = 0
         mujoco.mj_forward(m, d)
         self.contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
@@ -153,9 +164,12 @@ class Simulator:
         self.scene.config.workspace.check_palm(pos)
         self._palm_goal_pos = pos.copy()
         self._palm_goal_quat = _quat(finite_array(palm_rot_world, "palm_rot_world", (3, 3)))
+        self._palm_reached = False
 
     def palm_at_goal(self, tol: float = 1e-4) -> bool:
         """True when the mocap has reached the palm goal."""
+        if self._palm_reached:
+            return True
         i = self.hand.mocap_id
         rotvec = np.zeros(3)
         mujoco.mju_subQuat(rotvec, self._palm_goal_quat, self.data.mocap_quat[i])
@@ -177,6 +191,8 @@ class Simulator:
 
     # ------------------------------------------------------------------ stepping
     def _advance_mocap(self) -> None:
+        if self._palm_reached:
+            return
         d, i = self.data, self.hand.mocap_id
         pos = d.mocap_pos[i]
         delta = self._palm_goal_pos - pos
@@ -197,6 +213,7 @@ class Simulator:
             d.mocap_quat[i] = quat
         else:
             d.mocap_quat[i] = self._palm_goal_quat
+            self._palm_reached = dist <= max_step
 
     def _servo_fingers(self) -> None:
         d, hand = self.data, self.hand
@@ -215,11 +232,12 @@ class Simulator:
 
     def _check_stable(self) -> None:
         d = self.data
-        bad = d.warning[_BADQACC].number
+        bad = sum(d.warning[w].number for w in _BAD_STATE)
         if bad > 0 or not np.isfinite(d.qacc.sum() + d.qpos.sum()):
             raise SimulationError(
                 f"the simulation went unstable at t = {d.time:.4f} s (bad or non-finite "
-                "accelerations); try a smaller timestep or a gentler exploration"
+                "positions, velocities or accelerations, mjWARN_BADQACC/BADQVEL/BADQPOS); try a "
+                "smaller timestep or a gentler exploration"
             )
 
     def tick(self) -> ContactState:

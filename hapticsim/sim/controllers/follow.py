@@ -164,7 +164,7 @@ class FollowTask(FingerTask):
                 self._state, self._t0, self._depth = "press", now, 0.0
             else:
                 travelled = float((tip - self.start.start(pc.standoff)) @ self.start.approach_world)
-                if travelled > pc.standoff + pc.max_travel:
+                if travelled > pc.standoff + pc.max_travel or now - self._t0 > pc.approach_time:
                     self.finish(sim, "first probe met nothing")
                     return
                 self._target = self._target + self.start.approach_world * pc.speed * sim.dt_control

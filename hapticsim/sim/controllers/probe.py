@@ -78,6 +78,11 @@ class ProbeConfig:
     move_time: float = 0.4
     press_time: float = 0.3
 
+    @property
+    def approach_time(self) -> float:
+        """Longest approach [s]: 1.5 times the travel at speed, plus 0.1 s."""
+        return 1.5 * (self.standoff + self.max_travel) / self.speed + 0.1
+
     def __post_init__(self) -> None:
         for name in self.__dataclass_fields__:
             if finite_float(getattr(self, name), name) <= 0:
@@ -93,6 +98,8 @@ class ProbeTask(FingerTask):
         recorder: where contacts go.
         pattern: pattern id in the recorder.
         config: probing parameters.
+        miss_limit: stop after this many probes in a row met nothing or were out of reach
+            (None: never).
     """
 
     def __init__(
@@ -102,8 +109,11 @@ class ProbeTask(FingerTask):
         recorder: Recorder,
         pattern: int,
         config: ProbeConfig | None = None,
+        miss_limit: int | None = None,
     ) -> None:
         super().__init__(finger, recorder, pattern)
+        self.miss_limit = miss_limit
+        self.failed = 0
         self.probes = list(probes)
         self.config = ProbeConfig() if config is None else config
         self.index = -1
@@ -116,6 +126,9 @@ class ProbeTask(FingerTask):
         self._depth = 0.0
 
     def _next(self, sim: Simulator) -> None:
+        if self.miss_limit is not None and self.failed >= self.miss_limit:
+            self.finish(sim, f"{self.failed} probes in a row met nothing")
+            return
         self.index += 1
         if self.index >= len(self.probes):
             self.finish(sim, "all probes done")
@@ -149,6 +162,7 @@ class ProbeTask(FingerTask):
                 self._state, self._t0 = "approach", sim.time  # touched early: treat as approach
             elif elapsed > cfg.move_time:
                 self.unreachable += 1
+                self.failed += 1
                 self._retract(sim, -probe.approach_world)
             return
         if self._state == "approach":
@@ -158,8 +172,10 @@ class ProbeTask(FingerTask):
             else:
                 start = probe.start(cfg.standoff)
                 travelled = float((tip - start) @ probe.approach_world)
-                if travelled > cfg.standoff + cfg.max_travel:
+                # beyond the travel, or stuck (reach, joint limits) well past the expected time
+                if travelled > cfg.standoff + cfg.max_travel or elapsed > cfg.approach_time:
                     self.missed += 1
+                    self.failed += 1
                     self._retract(sim, -probe.approach_world)
                     return
                 self._target = self._target + probe.approach_world * cfg.speed * sim.dt_control
@@ -169,12 +185,14 @@ class ProbeTask(FingerTask):
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force_threshold:
+                    self.failed = 0
                     self.record(sim, contact)
                     if not self.done:
                         self._retract(sim, contact.normal_world)
                     return
             if elapsed > cfg.press_time:
                 self.missed += 1
+                self.failed += 1
                 self._retract(sim, self._normal)
                 return
             self._depth += cfg.press_rate * sim.dt_control

@@ -130,9 +130,7 @@ def plan_sweep(
             if err > 0.002:
                 continue
             postures[f] = q
-            stripes.append(
-                StripeSpec(f, start, u, p1 - p0, float(arcs[hi] - arcs[lo]))
-            )
+            stripes.append(StripeSpec(f, start, u, p1 - p0, float(arcs[hi] - arcs[lo])))
         if stripes and (best is None or sum(s.length for s in stripes) > best.total_length):
             best = SweepPlan(pose, -bisector, tuple(stripes), postures, contour)
     return best
