@@ -11,8 +11,9 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
   ``stroke_spacing`` metres moves along the current tangent (in the plane), then back onto the
   section curve radially from a point inside it (the middle of the chord along the first normal),
   so the stroke rolls over edges and corners onto the next face;
-- a contact closer than ``table_clearance`` to the table (the plane under the object) is not
-  reachable by a fingertip: a probe there is ``"blocked"``, a stroke stops there;
+- a contact where a fingertip would hit the object's support (:class:`~hapticsim.envs.support.
+  Support`: by default the thin stand under the object, as in the MuJoCo scene) is unreachable:
+  a probe there is ``"blocked"``, a stroke stops there;
 - sensor noise follows SPEC §5 (relative ``sigma_N``; the clean values are kept beside).
 
 The backend is the simulator: it sees the ground truth, the environment's observation does not.
@@ -21,12 +22,14 @@ The backend is the simulator: it sees the ground truth, the environment's observ
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.data.noise import add_noise
+from hapticsim.envs.support import SUPPORTS, Support
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
@@ -93,6 +96,76 @@ def raycast(shape: Superquadric, origin: Array, direction: Array, length: float)
     return None if np.isnan(s) else s
 
 
+def stroke_plane(shape: Superquadric, first: Array, stroke_angle: float) -> tuple[Array, Array]:
+    """Initial direction and plane normal of a stroke from `first` (action semantics).
+
+    Args:
+        shape: the surface the stroke starts on.
+        first: (3,) float, first contact [m, world] (on `shape`).
+        stroke_angle: psi [rad] in the tangent frame of :func:`tangent_frame`.
+
+    Returns:
+        direction (3,) unit tangent, plane_normal (3,) unit normal of the stroke's plane.
+    """
+    n0 = shape.normals(first[None, :])[0]
+    t_h, t_v = tangent_frame(n0)
+    direction = np.cos(stroke_angle) * t_h + np.sin(stroke_angle) * t_v
+    return direction, np.cross(n0, direction)
+
+
+def section_walk(
+    shape: Superquadric,
+    first: Array,
+    stroke_angle: float,
+    n_steps: int,
+    spacing: float,
+    keep: Callable[[Array], bool] | None = None,
+) -> list[Array]:
+    """Points along the section of `shape` by a stroke's plane, `spacing` apart, from `first`.
+
+    Each step moves `spacing` along the current tangent (in the plane), then back onto the
+    section curve radially from a point inside it (the middle of the chord along the first
+    normal), so the walk rolls over edges and corners onto the next face.
+
+    Args:
+        shape: the convex superquadric.
+        first: (3,) float, start point on the surface [m, world].
+        stroke_angle: psi [rad] (:func:`stroke_plane`).
+        n_steps: steps to take.
+        spacing: step length [m].
+        keep: stop before the first point for which this returns False (e.g. the support).
+
+    Returns:
+        ``[first, p1, p2, ...]``, at most ``n_steps + 1`` points (3,) [m, world].
+    """
+    direction, plane = stroke_plane(shape, first, stroke_angle)
+    n0 = shape.normals(first[None, :])[0]
+    reach = 4.0 * shape.bounding_radius + 4.0 * float(np.linalg.norm(first - shape.center))
+    # A star centre of the (convex) section: the middle of the chord along the normal.
+    back = raycast(shape, first - reach * n0, n0, reach)
+    center = first if back is None else 0.5 * (first + (first - reach * n0 + back * n0))
+    out: list[Array] = [np.asarray(first, dtype=np.float64)]
+    p = out[0]
+    for _ in range(n_steps):
+        u = p + spacing * direction - center
+        u -= (u @ plane) * plane  # stay in the plane
+        u /= np.linalg.norm(u)
+        s = raycast(shape, center + reach * u, -u, reach)
+        if s is None:
+            break
+        q = center + (reach - s) * u
+        if (keep is not None and not keep(q)) or np.linalg.norm(q - p) < 1e-9:
+            break
+        n = shape.normals(q[None, :])[0]
+        t = np.cross(plane, n)
+        norm = np.linalg.norm(t)
+        t = t / norm if norm > 1e-9 else direction
+        direction = t if t @ (q - p) >= 0 else -t
+        out.append(q)
+        p = q
+    return out
+
+
 class AnalyticBackend:
     """Touches on the analytic ground truth (see the module docstring).
 
@@ -101,8 +174,8 @@ class AnalyticBackend:
             coordinate, normal std ``noise`` per component.
         n_fingers: fingers of the hand (the action selects one; the analytic hand treats them
             alike and records the index).
-        table: whether the object rests on a table (the plane through its lowest point).
-        table_clearance: contacts lower than this above the table are unreachable [m].
+        support: what holds the object (:data:`~hapticsim.envs.support.SUPPORTS`): ``"stand"``
+            (a post under its lowest point, as in the MuJoCo scene), ``"table"`` or ``"none"``.
         stroke_spacing: distance between contacts along a stroke [m].
         touch_seconds: simulated duration of a probe [s]; a stroke adds ``stroke_speed``.
         stroke_speed: fingertip speed along a stroke [m/s].
@@ -112,28 +185,35 @@ class AnalyticBackend:
         self,
         noise: float = 0.0,
         n_fingers: int = DEFAULT_FINGERS,
-        table: bool = True,
-        table_clearance: float = 0.008,
+        support: str = "stand",
         stroke_spacing: float = 0.005,
         touch_seconds: float = 1.0,
         stroke_speed: float = 0.02,
     ) -> None:
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.n_fingers = positive_int(n_fingers, "n_fingers")
-        self.table = bool(table)
-        self.table_clearance = finite_float(table_clearance, "table_clearance", 0.0, 1.0)
+        if support not in SUPPORTS:
+            raise InvalidInputError(f"`support` must be one of {SUPPORTS}, got {support!r}")
+        self.support_kind = support
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-4, 1.0)
         self.touch_seconds = finite_float(touch_seconds, "touch_seconds", 0.0)
         self.stroke_speed = finite_float(stroke_speed, "stroke_speed", 1e-6)
         self._truth: Superquadric | None = None
         self._rng: np.random.Generator | None = None
-        self._table_z = -np.inf
+        self._support: Support | None = None
         self._clock = 0.0
         self._renderer = None
 
     # ------------------------------------------------------------------ episode
-    def reset(self, shape: Superquadric, rng: np.random.Generator) -> Superquadric:
+    def reset(
+        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+    ) -> Superquadric:
         """Place `shape` as given (its own pose) and start a new episode.
+
+        Args:
+            shape: the object.
+            rng: the environment's generator (sensor noise).
+            position_error: error of the rough position (unused: ray casting needs no plan).
 
         Returns:
             the ground truth, `shape` itself.
@@ -141,24 +221,18 @@ class AnalyticBackend:
         self._truth = shape
         self._rng = rng
         self._clock = 0.0
-        if self.table:
-            # The lowest surface point: a dense sample of the surface suffices (1e-4 m).
-            eta = np.linspace(-np.pi / 2, np.pi / 2, 61)
-            omega = np.linspace(-np.pi, np.pi, 121)
-            ee, oo = np.meshgrid(eta, omega)
-            pts, _ = shape.surface(ee.ravel(), oo.ravel())
-            self._table_z = float(pts[:, 2].min())
-        else:
-            self._table_z = -np.inf
+        self._support = Support.under(shape, self.support_kind)
         return shape
 
     @property
-    def table_height(self) -> float:
-        """Height z [m, world] of the table top (``-inf`` without a table)."""
-        return self._table_z
+    def support(self) -> Support:
+        """The object's support in this episode."""
+        if self._support is None:
+            raise InvalidInputError("call `reset` first")
+        return self._support
 
     def _reachable(self, point: Array) -> bool:
-        return bool(point[2] >= self._table_z + self.table_clearance)
+        return not self.support.blocks(point)
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one probe or stroke aimed at `origin` (3,) [m, world].
@@ -184,7 +258,7 @@ class AnalyticBackend:
         first = origin + (far - s) * touch.approach
         if not self._reachable(first):
             return TouchResult.empty(
-                "blocked", time.perf_counter() - start, "contact under the table clearance"
+                "blocked", time.perf_counter() - start, "the support is in the way"
             )
         points = [first]
         n_steps = int(round(touch.stroke_length / self.stroke_spacing))
@@ -215,36 +289,10 @@ class AnalyticBackend:
 
     def _stroke(self, first: Array, stroke_angle: float, n_steps: int) -> list[Array]:
         """Contacts after `first` along the planar section of a stroke (see the module doc)."""
-        truth = self._truth
-        assert truth is not None
-        n0 = truth.normals(first[None, :])[0]
-        t_h, t_v = tangent_frame(n0)
-        direction = np.cos(stroke_angle) * t_h + np.sin(stroke_angle) * t_v
-        plane = np.cross(n0, direction)  # normal of the stroke's plane
-        reach = 4.0 * truth.bounding_radius + 4.0 * float(np.linalg.norm(first - truth.center))
-        # A star centre of the (convex) section: the middle of the chord along the normal.
-        back = raycast(truth, first - reach * n0, n0, reach)
-        center = first if back is None else 0.5 * (first + (first - reach * n0 + back * n0))
-        out: list[Array] = []
-        p = first
-        for _ in range(n_steps):
-            u = p + self.stroke_spacing * direction - center
-            u -= (u @ plane) * plane  # stay in the plane
-            u /= np.linalg.norm(u)
-            s = raycast(truth, center + reach * u, -u, reach)
-            if s is None:
-                break
-            q = center + (reach - s) * u
-            if not self._reachable(q) or np.linalg.norm(q - p) < 1e-9:
-                break
-            n = truth.normals(q[None, :])[0]
-            t = np.cross(plane, n)
-            norm = np.linalg.norm(t)
-            t = t / norm if norm > 1e-9 else direction
-            direction = t if t @ (q - p) >= 0 else -t
-            out.append(q)
-            p = q
-        return out
+        assert self._truth is not None
+        return section_walk(
+            self._truth, first, stroke_angle, n_steps, self.stroke_spacing, self._reachable
+        )[1:]
 
     # ------------------------------------------------------------------ rendering
     def render(
@@ -257,7 +305,7 @@ class AnalyticBackend:
 
         if self._renderer is None:
             self._renderer = SceneRenderer(width, height)
-        return self._renderer.render(self._truth, estimate, points, self._table_z)
+        return self._renderer.render(self._truth, estimate, points, self.support)
 
     def close(self) -> None:
         """Free the renderer."""

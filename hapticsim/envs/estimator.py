@@ -5,10 +5,12 @@ thousands of error-of-fit evaluations; after one touch the previous estimate is 
 a least-squares refinement warm-started from it (``fit(..., initial=previous)``) is enough. The
 :class:`FitSchedule` decides: no fit below ``min_contacts`` contacts (a superquadric has 13
 parameters); a full fit (its genetic algorithm seeded with the previous estimate too) on the
-first touch with enough contacts, whenever the new contacts *surprise* the current estimate
-(their RMS residual, paper eq. 9, exceeds ``surprise`` times its mean semi-axis: the estimate is
-wrong where the finger just was, and a local refinement would stay in its basin), and at least
-every ``full_every`` touches; a warm-started refinement otherwise.
+first touch with enough contacts, whenever the new contacts *surprise* the current estimate, and
+at least every ``full_every`` touches; a warm-started refinement otherwise. New contacts surprise
+when their RMS residual (paper eq. 9) on the current estimate exceeds ``surprise`` times the RMS
+residual of the contacts it was fitted to, and ``surprise_floor`` times its mean semi-axis: the
+estimate is wrong where the finger just was (beyond the sensor noise, which both residuals
+share), and a local refinement would stay in its basin.
 """
 
 from __future__ import annotations
@@ -41,7 +43,9 @@ class FitSchedule:
         full_every: a full fit at least every this many touches after the previous full one; 1
             makes every fit full.
         surprise: a full fit when the new contacts' RMS residual on the current estimate exceeds
-            this fraction of its mean semi-axis; ``inf`` turns this off.
+            this multiple of the estimate's own RMS residual (``sqrt(EOF)``); ``inf`` turns
+            this off.
+        surprise_floor: ... and this fraction of the estimate's mean semi-axis.
         full_budget: evaluation budget of a full fit (None: the fitter's default).
         refine_budget: evaluation budget of a refinement (None: the fitter's default).
         min_contacts: fewest contacts to fit (13 parameters: at least 13).
@@ -50,7 +54,8 @@ class FitSchedule:
     method: str = "nH"
     refine_method: str = "nLS"
     full_every: int = 10
-    surprise: float = 0.1
+    surprise: float = 2.0
+    surprise_floor: float = 0.05
     full_budget: int | None = 4000
     refine_budget: int | None = 400
     min_contacts: int = N_PARAMS
@@ -69,6 +74,10 @@ class FitSchedule:
                 raise InvalidInputError(f"`{name}` must be None or an int >= 1, got {value!r}")
         if not (self.surprise > 0):
             raise InvalidInputError(f"`surprise` must be > 0 (inf: off), got {self.surprise!r}")
+        if not (0 <= self.surprise_floor < np.inf):
+            raise InvalidInputError(
+                f"`surprise_floor` must be finite and >= 0, got {self.surprise_floor!r}"
+            )
         if isinstance(self.min_contacts, bool) or int(self.min_contacts) < N_PARAMS:
             raise InvalidInputError(
                 f"`min_contacts` must be an int >= {N_PARAMS}, got {self.min_contacts!r}"
@@ -113,17 +122,23 @@ class IncrementalFitter:
         self.eof = 0.0
         self._touches_since_full = 0
 
-    def surprise(self, points: Array, normals: Array) -> float:
-        """RMS residual of contacts on the current estimate / its mean semi-axis (inf if none).
+    def surprised(self, points: Array, normals: Array) -> bool:
+        """Whether new contacts contradict the current estimate (see the module docstring).
 
         Args:
-            points: (k, 3) float, contacts [m, world]; normals: (k, 3) float.
+            points: (k, 3) float, the new contacts [m, world]; normals: (k, 3) float.
         """
         est = self.estimate
-        if est is None or len(points) == 0:
-            return float("inf")
+        if est is None:
+            return True
+        if len(points) == 0:
+            return False
         r = contact_residuals(points, normals, est.a, est.eps, est.taper, est.rotation, est.center)
-        return float(np.sqrt(np.mean(r**2)) / np.mean(est.a))
+        rms = float(np.sqrt(np.mean(r**2)))
+        sched = self.schedule
+        return rms > sched.surprise * np.sqrt(self.eof) and rms > sched.surprise_floor * float(
+            np.mean(est.a)
+        )
 
     def update(
         self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: int = 1
@@ -152,7 +167,7 @@ class IncrementalFitter:
         full = (
             self.estimate is None
             or self._touches_since_full >= sched.full_every
-            or self.surprise(points[-new_contacts:], normals[-new_contacts:]) > sched.surprise
+            or self.surprised(points[-new_contacts:], normals[-new_contacts:])
         )
         seed = int(rng.integers(2**31 - 1))
         method = sched.method if full else sched.refine_method

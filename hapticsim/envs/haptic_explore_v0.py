@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from hapticsim.constants import EPS_MAX, EPS_MIN
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.objects import ObjectDistribution
+from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchBackend, TouchResult, decode_action
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
@@ -80,7 +81,9 @@ class HapticExploreConfig:
             fit, no ground truth).
         target_epsilon: terminate when epsilon falls to this value (privileged); None: never.
         fit: the fit schedule.
-        table: the object rests on a table (analytic backend; the MuJoCo scene always has one).
+        support: what holds the object up in the analytic backend: ``"stand"`` (a thin post
+            under it, as in the MuJoCo scene, which always has one), ``"table"`` or ``"none"``;
+            contacts where a fingertip would hit it are unreachable.
         compute_metrics: score the estimate against the truth every step (info); forced on for
             ``reward="epsilon"`` and ``target_epsilon``.
         metric_samples: Monte Carlo samples inside each solid for alpha, beta, epsilon and IoU
@@ -104,7 +107,7 @@ class HapticExploreConfig:
     reward: str = "epsilon"
     target_epsilon: float | None = None
     fit: FitSchedule = field(default_factory=FitSchedule)
-    table: bool = True
+    support: str = "stand"
     compute_metrics: bool = True
     metric_samples: int = 20_000
     chamfer_samples: int = 300
@@ -114,6 +117,8 @@ class HapticExploreConfig:
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
             raise InvalidInputError(f"`backend` must be one of {BACKENDS}, got {self.backend!r}")
+        if self.support not in SUPPORTS:
+            raise InvalidInputError(f"`support` must be one of {SUPPORTS}, got {self.support!r}")
         if self.reward not in REWARDS:
             raise InvalidInputError(f"`reward` must be one of {REWARDS}, got {self.reward!r}")
         object.__setattr__(self, "objects", ObjectDistribution.coerce(self.objects))
@@ -176,7 +181,7 @@ def make_backend(config: HapticExploreConfig) -> TouchBackend:
         from hapticsim.envs.analytic import AnalyticBackend
 
         return AnalyticBackend(
-            noise=config.noise, table=config.table, stroke_spacing=config.stroke_spacing
+            noise=config.noise, support=config.support, stroke_spacing=config.stroke_spacing
         )
     from hapticsim.envs.mujoco_backend import MujocoBackend
 
@@ -446,10 +451,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         self._clear()
         self._fitter.reset()
-        self._truth = self._backend.reset(shape, self.np_random)
-        self._origin = self._truth.center + self.np_random.normal(
-            0.0, self.config.position_noise, size=3
-        )
+        error = self.np_random.normal(0.0, self.config.position_noise, size=3)
+        self._truth = self._backend.reset(shape, self.np_random, error)
+        self._origin = self._truth.center + error
         info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
         return self._observation(), info
 

@@ -142,8 +142,9 @@ class UncertaintyPolicy(Policy):
     rotation from the policy's rng) are ray cast onto the estimate decoded from the observation
     (before the first fit: a sphere about the rough position, of radius ``initial_radius``, or the
     contacts' mean distance from it once there are some). Directions whose predicted contact lies
-    within ``table_margin`` of the estimate's bottom (probably the table) or within
-    ``failed_cone`` of a direction that brought no contact are dropped. The policy picks the
+    on the estimate's underside within ``support_radius`` of its vertical axis (where the stand
+    holding the object is) or within ``failed_cone`` of a direction that brought no contact are
+    dropped. The policy picks the
     direction whose predicted contact is farthest from all contacts, then the stroke direction
     (of 8) whose predicted end point is farthest from all contacts, and strokes the full length.
 
@@ -152,7 +153,9 @@ class UncertaintyPolicy(Policy):
         rng: seed or generator.
         n_candidates: approach directions tried per step.
         initial_radius: radius of the stand-in sphere before the first fit [m].
-        table_margin: fraction of the estimate's height above its bottom treated as unreachable.
+        support_radius: horizontal distance [m] from the estimate's axis, on its underside (the
+            lowest ``support_margin`` of its height), treated as unreachable (the stand).
+        support_margin: fraction of the estimate's height above its bottom checked for that.
         failed_cone: half-angle of the cone around a failed approach that is avoided [rad].
     """
 
@@ -164,7 +167,8 @@ class UncertaintyPolicy(Policy):
         rng: np.random.Generator | int | None = None,
         n_candidates: int = 96,
         initial_radius: float = 0.04,
-        table_margin: float = 0.15,
+        support_radius: float = 0.018,
+        support_margin: float = 0.1,
         failed_cone: float = 0.35,
     ) -> None:
         super().__init__(env, rng)
@@ -172,7 +176,8 @@ class UncertaintyPolicy(Policy):
             raise InvalidInputError(f"`n_candidates` must be >= 4, got {n_candidates}")
         self.n_candidates = int(n_candidates)
         self.initial_radius = float(initial_radius)
-        self.table_margin = float(table_margin)
+        self.support_radius = float(support_radius)
+        self.support_margin = float(support_margin)
         self.failed_cone = float(failed_cone)
         self._sphere = fibonacci_sphere(self.n_candidates)
         self._failed: list[Array] = []
@@ -223,9 +228,11 @@ class UncertaintyPolicy(Policy):
                 np.tile(np.linspace(-np.pi, np.pi, 24), 25),
             )[0]
             bottom, top = float(surf[:, 2].min()), float(surf[:, 2].max())
-            keep &= cand.points[:, 2] > bottom + self.table_margin * (top - bottom)
-        elif len(contacts):
-            keep &= cand.approach[:, 2] > -0.5
+            low = cand.points[:, 2] < bottom + self.support_margin * (top - bottom)
+            near = np.linalg.norm(cand.points[:, :2] - estimate.center[:2], axis=1)
+            keep &= ~(low & (near < self.support_radius))
+        else:
+            keep &= cand.approach[:, 2] > -0.9  # not straight from below: the stand
         for d in self._failed:
             keep &= cand.approach @ d < np.cos(self.failed_cone)
         if not np.any(keep):

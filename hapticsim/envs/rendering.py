@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.envs.support import Support
 from hapticsim.geometry import Superquadric
 
 Array = NDArray[np.float64]
@@ -18,6 +19,8 @@ TRUTH_RGBA = (0.72, 0.72, 0.72, 1.0)
 ESTIMATE_RGBA = (0.2, 0.45, 0.95, 0.35)
 CONTACT_RGBA = (0.95, 0.15, 0.1, 1.0)
 TABLE_RGBA = (0.55, 0.45, 0.35, 1.0)
+#: Height of the drawn stand [m] (the MuJoCo scene's is 0.15 m).
+STAND_HEIGHT = 0.06
 #: Radius of a contact marker [m].
 CONTACT_RADIUS = 0.0025
 
@@ -67,7 +70,9 @@ class SceneRenderer:
         self._data = None
         self._renderer = None
 
-    def _build(self, truth: Superquadric, estimate: Superquadric | None, table_z: float) -> None:
+    def _build(
+        self, truth: Superquadric, estimate: Superquadric | None, support: Support | None
+    ) -> None:
         import mujoco
 
         spec = mujoco.MjSpec()
@@ -75,11 +80,19 @@ class SceneRenderer:
         spec.visual.global_.offheight = max(self.height, 480)
         spec.worldbody.add_light(pos=[0.3, -0.3, 1.0], dir=[-0.3, 0.3, -1.0], diffuse=[0.8] * 3)
         spec.worldbody.add_light(pos=[-0.3, 0.3, 1.0], dir=[0.3, -0.3, -1.0], diffuse=[0.4] * 3)
-        if np.isfinite(table_z):
+        if support is not None and support.kind != "none":
+            foot = support.foot
+            floor = foot[2] - (STAND_HEIGHT if support.kind == "stand" else 0.0)
             spec.worldbody.add_geom(
                 type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.3, 0.3, 0.01],
-                pos=[truth.center[0], truth.center[1], table_z], rgba=list(TABLE_RGBA),
+                pos=[foot[0], foot[1], floor], rgba=list(TABLE_RGBA),
             )  # fmt: skip
+            if support.kind == "stand":
+                spec.worldbody.add_geom(
+                    type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+                    size=[support.radius, 0.5 * STAND_HEIGHT, 0.0],
+                    pos=[foot[0], foot[1], foot[2] - 0.5 * STAND_HEIGHT], rgba=[0.3, 0.3, 0.3, 1],
+                )  # fmt: skip
         _add_mesh(spec, "truth", truth, TRUTH_RGBA)
         if estimate is not None:
             _add_mesh(spec, "estimate", estimate, ESTIMATE_RGBA)
@@ -95,7 +108,7 @@ class SceneRenderer:
         truth: Superquadric,
         estimate: Superquadric | None,
         points: Array,
-        table_z: float = -np.inf,
+        support: Support | None = None,
     ) -> NDArray[np.uint8]:
         """The picture, (height, width, 3) uint8.
 
@@ -103,13 +116,13 @@ class SceneRenderer:
             truth: the ground truth (grey).
             estimate: the current fit (translucent blue), or None.
             points: (n, 3) float, contact points [m, world] (red spheres).
-            table_z: height of the table top [m], ``-inf`` for none.
+            support: the object's support (drawn with a table under a stand), or None.
         """
         import mujoco
 
-        key = (id(truth), id(estimate), float(table_z))
+        key = (id(truth), id(estimate), id(support))
         if self._key != key or self._renderer is None:
-            self._build(truth, estimate, table_z)
+            self._build(truth, estimate, support)
             self._key = key
         cam = mujoco.MjvCamera()
         cam.lookat[:] = truth.center

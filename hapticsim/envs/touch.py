@@ -243,8 +243,14 @@ class TouchBackend(Protocol):
     #: Number of fingers (action component 4 selects one).
     n_fingers: int
 
-    def reset(self, shape: Superquadric, rng: np.random.Generator) -> Superquadric:
-        """Start an episode on `shape`; return the ground truth in the backend's world frame."""
+    def reset(
+        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+    ) -> Superquadric:
+        """Start an episode on `shape`; return the ground truth in the backend's world frame.
+
+        `position_error` (3,) [m] is the error of the rough position the environment will aim
+        at (``truth.center + position_error``); a backend that plans (the hand) uses it.
+        """
         ...
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:

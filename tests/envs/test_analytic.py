@@ -77,16 +77,26 @@ def test_stroke_follows_the_contour_over_an_edge() -> None:
     assert np.all(res.finger == 1) and np.all(np.diff(res.time) > 0)
 
 
-def test_table_blocks_touches_from_below() -> None:
+def test_the_stand_blocks_touches_next_to_it() -> None:
     backend, truth = _backend()
-    assert backend.table_height == pytest.approx(-0.05, abs=1e-6)
+    support = backend.support
+    assert support.kind == "stand" and support.foot[2] == pytest.approx(-0.05, abs=1e-4)
+    np.testing.assert_allclose(support.foot[:2], 0.0, atol=2e-3)
     res = backend.touch(Touch(np.array([0.0, 0.0, -1.0]), 0.0, 0.0, 0), truth.center)
     assert res.status == "blocked" and len(res) == 0
-    free, _ = _backend(table=False)
+    free, _ = _backend(support="none")
     assert free.touch(Touch(np.array([0.0, 0.0, -1.0]), 0.0, 0.0, 0), truth.center).status == "ok"
-    # A stroke downwards stops at the clearance above the table.
+    # The bottom face away from the stand is reachable ...
+    res = backend.touch(Touch(np.array([0.0, 0.4, -1.0]), 0.0, 0.0, 0), truth.center)
+    assert res.status == "ok" and res.normals[0, 2] < -0.9
+    # ... and a stroke down the side stops a fingertip away from the stand (the bottom face is
+    # 3 cm wide in x: all of it along y = 0 is within 16 mm of the stand's axis).
     res = backend.touch(Touch(np.array([1.0, 0.0, 0.0]), -np.pi / 2, 0.2, 0), truth.center)
-    assert res.points[:, 2].min() >= backend.table_height + backend.table_clearance
+    assert res.points[-1, 2] < -0.042
+    assert not any(support.blocks(p) for p in res.points)
+    table, _ = _backend(support="table")
+    res = table.touch(Touch(np.array([1.0, 0.0, 0.0]), -np.pi / 2, 0.2, 0), truth.center)
+    assert res.points[:, 2].min() >= -0.05 + table.support.clearance
 
 
 def test_sensor_noise_is_seeded_and_kept_apart() -> None:
@@ -111,7 +121,7 @@ def test_backend_checks_its_inputs() -> None:
 
 
 def test_stroke_stays_in_its_plane_around_a_corner() -> None:
-    backend = AnalyticBackend(table=False)
+    backend = AnalyticBackend(support="none")
     truth = backend.reset(
         Superquadric(a=(0.03, 0.03, 0.03), eps=(0.1, 0.1)), np.random.default_rng(0)
     )

@@ -1,0 +1,277 @@
+"""The MuJoCo touch backend: each action is executed by the simulated hand's scripted controllers.
+
+A thin adapter from a :class:`~hapticsim.envs.touch.Touch` to :mod:`hapticsim.sim`:
+
+- the episode's scene (:func:`~hapticsim.sim.scene.build_scene`: hand, table, object mesh) and an
+  :class:`~hapticsim.sim.explorer.Explorer` whose palm planner works on a *rough object*: the
+  truth with semi-axes off by a few per cent (:func:`~hapticsim.sim.rough.vision_estimate`) and
+  its centre at the environment's rough position;
+- the aim of a touch is where the approach ray (from far along ``d`` towards the rough position)
+  meets the rough object;
+- a **probe**: one :class:`~hapticsim.sim.controllers.ProbeTask` probe at the aim, moving along
+  ``-d``, with a palm pose planned for the chosen finger (:meth:`Explorer.probe_patch`);
+- a **stroke**: a :class:`~hapticsim.sim.controllers.FollowTask` (contour following in the plane
+  spanned by the rough normal at the aim and the stroke direction, as in the analytic backend),
+  starting with a probe at the aim along ``-d``. The palm pose puts the finger, in a hook posture,
+  over the middle of the stroke as predicted on the rough object, its flexion plane in the
+  stroke's plane; the stroke is cut to the part the finger can reach from there (inverse
+  kinematics on the planning scene);
+- an aim where a fingertip would hit the stand holding the object is unreachable
+  (``"blocked"``, the rule of the analytic backend, :class:`~hapticsim.envs.support.Support`);
+  a touch that records nothing is ``"missed"``; a simulation error (unreachable palm goal,
+  instability) is ``"failed"`` and the hand goes home.
+
+Recorded contacts are MuJoCo's (SPEC §7), with sensor noise added afterwards (SPEC §5).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import finite_float
+from hapticsim.data.noise import add_noise
+from hapticsim.envs.analytic import raycast, section_walk, stroke_plane
+from hapticsim.envs.support import Support
+from hapticsim.envs.touch import Touch, TouchResult
+from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.geometry import Superquadric
+
+Array = NDArray[np.float64]
+
+#: Number of fingers of ``models/hand.xml`` (0 thumb, 1 index, 2 middle, 3 ring).
+N_FINGERS: int = 4
+#: Shortest stroke worth a contour-following run [m]; shorter reachable strokes become probes.
+MIN_STROKE: float = 0.006
+
+
+class MujocoBackend:
+    """Touches executed by the MuJoCo hand (see the module docstring).
+
+    Args:
+        noise: relative sensor noise sigma_N (SPEC §5).
+        stroke_spacing: distance between recorded contacts along a stroke [m].
+        scene_config: scene options (:class:`hapticsim.sim.scene.SceneConfig`), default ones
+            if None.
+        size_sigma: relative error of the rough object's semi-axes used for planning.
+    """
+
+    n_fingers: int = N_FINGERS
+
+    def __init__(
+        self,
+        noise: float = 0.0,
+        stroke_spacing: float = 0.005,
+        scene_config=None,  # noqa: ANN001 - hapticsim.sim.scene.SceneConfig
+        size_sigma: float = 0.03,
+    ) -> None:
+        self.noise = finite_float(noise, "noise", 0.0, 1.0)
+        self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-3, 0.05)
+        self.size_sigma = finite_float(size_sigma, "size_sigma", 0.0, 0.29)
+        self.scene_config = scene_config
+        self._truth: Superquadric | None = None
+        self._rng: np.random.Generator | None = None
+        self._explorer = None
+        self._support: Support | None = None
+        self._renderer = None
+        self._render_model = None
+
+    # ------------------------------------------------------------------ episode
+    def reset(
+        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+    ) -> Superquadric:
+        """Build the scene for `shape` (placed as given, on a stand above the table).
+
+        Args:
+            shape: the object.
+            rng: the environment's generator (rough object, sensor noise).
+            position_error: (3,) float, error of the rough position the planner works with [m].
+
+        Returns:
+            the ground truth, `shape` itself.
+
+        Raises:
+            SimulationError: the object is too large or too far for the hand.
+        """
+        from hapticsim.sim.explorer import Explorer, ExplorerConfig
+        from hapticsim.sim.recorder import Recorder
+        from hapticsim.sim.rough import RoughObject, vision_estimate
+        from hapticsim.sim.scene import build_scene
+
+        self.close()
+        offset = np.zeros(3) if position_error is None else np.asarray(position_error, float)
+        scene = build_scene(shape, self.scene_config)
+        rough = vision_estimate(shape, rng, position_sigma=0.0, size_sigma=self.size_sigma)
+        rough = RoughObject(rough.shape.replace(center=shape.center + offset), rough.has_edges)
+        self._explorer = Explorer(scene, rough, Recorder(None), ExplorerConfig())
+        stand = scene.stand_geom_id
+        foot = scene.model.geom_pos[stand].copy()
+        foot[2] = scene.model.geom_pos[stand][2] + scene.model.geom_size[stand][1] - 0.002
+        self._support = Support("stand", foot, float(scene.model.geom_size[stand][0]))
+        self._truth = shape
+        self._rng = rng
+        return shape
+
+    @property
+    def support(self) -> Support:
+        """The stand holding the object in this episode."""
+        if self._support is None:
+            raise InvalidInputError("call `reset` first")
+        return self._support
+
+    def _reachable(self, point: Array) -> bool:
+        return not self.support.blocks(point)
+
+    def touch(self, touch: Touch, origin: Array) -> TouchResult:
+        """Execute one probe or stroke aimed at `origin` (3,) [m, world] with the hand.
+
+        Raises:
+            InvalidInputError: before :meth:`reset`, or for a finger the hand does not have.
+        """
+        if self._explorer is None or self._truth is None or self._rng is None:
+            raise InvalidInputError("call `reset` before `touch`")
+        if not 0 <= touch.finger < self.n_fingers:
+            raise InvalidInputError(
+                f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
+            )
+        start = time.perf_counter()
+        ex = self._explorer
+        rough = ex.rough.shape
+        origin = np.asarray(origin, dtype=np.float64)
+        d = touch.approach
+        far = 2.0 * rough.bounding_radius + 2.0 * float(np.linalg.norm(origin - rough.center))
+        s = raycast(rough, origin + far * d, -d, far)
+        if s is None:
+            return TouchResult.empty("missed", time.perf_counter() - start, "no rough surface")
+        aim = origin + (far - s) * d
+        if not self._reachable(aim):
+            return TouchResult.empty(
+                "blocked", time.perf_counter() - start, "the stand is in the way"
+            )
+        before = len(ex.recorder)
+        message = ""
+        try:
+            if touch.is_probe or not self._stroke(touch, aim):
+                self._probe(touch, aim)
+        except HapticsimError as exc:  # SimulationError: unreachable goal, instability
+            message = str(exc)
+            ex.home()
+        new = ex.recorder.arrays()
+        k = len(ex.recorder) - before
+        seconds = time.perf_counter() - start
+        if k == 0:
+            status = "failed" if message else "missed"
+            return TouchResult.empty(status, seconds, message or "no contact recorded")
+        pts_clean = new["points_clean"][before:]
+        nrm_clean = new["normals_clean"][before:]
+        if self.noise > 0:
+            pts, nrm = add_noise(
+                pts_clean, nrm_clean, self.noise, float(np.mean(self._truth.a)), self._rng
+            )
+        else:
+            pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        return TouchResult(
+            points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
+            finger=new["finger"][before:], force=new["force"][before:], time=new["time"][before:],
+            status="ok", seconds=seconds, message=message,
+        )  # fmt: skip
+
+    def _probe(self, touch: Touch, aim: Array) -> None:
+        from hapticsim.sim.controllers import Probe
+
+        assert self._explorer is not None
+        self._explorer.probe_patch(touch.finger, [Probe(aim, -touch.approach)])
+
+    def _stroke(self, touch: Touch, aim: Array) -> bool:
+        """Plan and run a stroke; False when no useful stroke can be planned (then probe)."""
+        from hapticsim.sim.controllers import Probe
+        from hapticsim.sim.explorer import StripeSpec
+        from hapticsim.sim.hand import TIP_RADIUS
+        from hapticsim.sim.planning import SWEEP_POSTURE
+
+        ex = self._explorer
+        assert ex is not None
+        rough = ex.rough.shape
+        n_steps = int(round(touch.stroke_length / self.stroke_spacing))
+        path = np.asarray(
+            section_walk(rough, aim, touch.stroke_angle, n_steps, self.stroke_spacing,
+                         self._reachable)
+        )  # fmt: skip
+        if len(path) < 2:
+            return False
+        direction, plane = stroke_plane(rough, aim, touch.stroke_angle)
+        normals = rough.normals(path)
+        tips = path + TIP_RADIUS * normals
+        mid = len(path) // 2
+        first = Probe(aim, -touch.approach)
+        entry = first.start(ex.config.probe.standoff)
+        best: tuple[int, object, Array] | None = None
+        poses = ex.planner.probe_poses(
+            touch.finger, tips[mid], -normals[mid], SWEEP_POSTURE, y_axis_world=plane
+        )
+        for pose in poses:
+            if pose.score < -50:
+                continue
+            q, err = ex.planner.kin.ik(
+                touch.finger, entry, pose.position, pose.rotation, SWEEP_POSTURE
+            )
+            if err > 0.002:
+                continue
+            _, ok = ex.planner.reachable(touch.finger, pose, list(tips), SWEEP_POSTURE)
+            last = 0
+            while last + 1 < len(ok) and ok[last + 1]:
+                last += 1
+            if ok[0] and (best is None or last > best[0]):
+                best = (last, pose, q)
+        if best is None:
+            return False
+        last, pose, q = best
+        length = float(np.sum(np.linalg.norm(np.diff(path[: last + 1], axis=0), axis=1)))
+        if length < MIN_STROKE:
+            return False
+        stripe = StripeSpec(touch.finger, first, plane, direction, length)
+        cfg = ex.config
+        from dataclasses import replace
+
+        ex.config = replace(cfg, follow=replace(cfg.follow, spacing=self.stroke_spacing))
+        try:
+            ex.sweep(pose, -normals[mid], [stripe], {touch.finger: q})
+        finally:
+            ex.config = cfg
+        return True
+
+    # ------------------------------------------------------------------ rendering
+    def render(
+        self, estimate: Superquadric | None, points: Array, width: int, height: int
+    ) -> NDArray[np.uint8]:
+        """The scene with the hand (camera ``overview``), contacts in red and the estimate as a
+        cloud of translucent blue dots."""
+        import mujoco
+
+        from hapticsim.envs.rendering import ESTIMATE_RGBA, add_markers
+
+        if self._explorer is None:
+            raise InvalidInputError("call `reset` before `render`")
+        sim = self._explorer.sim
+        if self._renderer is None or self._render_model is not sim.model:
+            if self._renderer is not None:
+                self._renderer.close()
+            self._renderer = mujoco.Renderer(sim.model, height, width)
+            self._render_model = sim.model
+        self._renderer.update_scene(sim.data, camera="overview")
+        add_markers(self._renderer.scene, points)
+        if estimate is not None:
+            eta = np.linspace(-np.pi / 2, np.pi / 2, 15).repeat(24)
+            omega = np.tile(np.linspace(-np.pi, np.pi, 24, endpoint=False), 15)
+            add_markers(self._renderer.scene, estimate.surface(eta, omega)[0], ESTIMATE_RGBA)
+        return self._renderer.render().copy()
+
+    def close(self) -> None:
+        """Free the renderer and the simulation."""
+        if self._renderer is not None:
+            self._renderer.close()
+        self._renderer = None
+        self._render_model = None
+        self._explorer = None
