@@ -33,8 +33,10 @@ def physics_steps_per_second(body: str, steps: int = 20000) -> dict[str, float]:
     top = truth.center + np.array([0.0, 0.0, truth.a[2]])
     explorer.probe_patch(1, [Probe(top, np.array([0.0, 0.0, -1.0]))])
     sim = explorer.sim
-    sim.set_tip_target(1, sim.tip_world(1) - np.array([0.0, 0.0, 0.002]))
-    for _ in range(20):
+    contact = explorer.recorder.contacts[-1]
+    # press the fingertip on the contact again and hold it there
+    sim.set_tip_target(1, contact.point_world + contact.normal_world * 0.006)
+    for _ in range(100):
         sim.tick()
     start = time.perf_counter()
     mujoco.mj_step(sim.model, sim.data, nstep=steps)
@@ -42,6 +44,7 @@ def physics_steps_per_second(body: str, steps: int = 20000) -> dict[str, float]:
     return {
         "steps_per_second": steps / seconds,
         "contacts": int(sim.data.ncon),
+        "fingertip_force": float(sim.contacts.tips[1].force) if sim.contacts.tips[1] else 0.0,
         "mesh_vertices": int(scene.model.mesh_vertnum[0]),
     }
 

@@ -56,7 +56,7 @@ class ServoConfig:
         palm_angular_speed: largest palm angular speed [rad/s].
     """
 
-    control_steps: int = 2
+    control_steps: int = 4
     damping: float = 0.01
     max_tip_error: float = 0.01
     palm_speed: float = 0.6

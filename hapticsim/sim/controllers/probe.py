@@ -70,7 +70,7 @@ class ProbeConfig:
 
     standoff: float = 0.010
     max_travel: float = 0.025
-    speed: float = 0.12
+    speed: float = 0.2
     force_threshold: float = 0.5
     press_rate: float = 0.02
     retract: float = 0.010
@@ -124,6 +124,8 @@ class ProbeTask(FingerTask):
         self._target = np.zeros(3)
         self._normal = np.zeros(3)
         self._depth = 0.0
+        self._retract_from = np.zeros(3)
+        self._retract_dir = np.zeros(3)
 
     def _next(self, sim: Simulator) -> None:
         if self.miss_limit is not None and self.failed >= self.miss_limit:
@@ -141,7 +143,9 @@ class ProbeTask(FingerTask):
     def _retract(self, sim: Simulator, normal: Array) -> None:
         self._state = "retract"
         self._t0 = sim.time
-        self._target = sim.tip_world(self.finger) + normal * self.config.retract
+        self._retract_from = sim.tip_world(self.finger)
+        self._retract_dir = np.asarray(normal, dtype=np.float64)
+        self._target = self._retract_from + normal * self.config.retract
         sim.set_tip_target(self.finger, self._target)
 
     def update(self, sim: Simulator, contacts: ContactState) -> None:
@@ -199,10 +203,10 @@ class ProbeTask(FingerTask):
             sim.set_tip_target(f, tip - self._normal * self._depth)
             return
         if self._state == "retract":
+            # move on once clear of the surface and half-way back
             clear = contact is None or contact.force == 0.0
-            if (np.linalg.norm(tip - self._target) < cfg.reach_tol and clear) or (
-                elapsed > cfg.move_time
-            ):
+            back = float((tip - self._retract_from) @ self._retract_dir)
+            if (clear and back > 0.5 * cfg.retract) or elapsed > cfg.move_time:
                 self._next(sim)
 
 
