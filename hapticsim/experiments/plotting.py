@@ -287,14 +287,15 @@ def plot_fig5(
                 f"{noise_body.replace('_', ' ')}, n = {noise_budget}: quality vs. σ_N",
                 fontsize=10,
             )
-    axes[0, 0].legend(fontsize=8, title="method", title_fontsize=8)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=9, frameon=False)
     fig.suptitle(
         f"Fig. 5 reproduced: mean over {runs} runs (fresh noise each run); "
         "bands: interquartile range (25th-75th percentile).\n"
         "θ for LS and H uses the points-only EOF, θ⁽¹⁾; for nLS and nH the EOF with normals.",
         fontsize=9,
     )
-    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    fig.tight_layout(rect=(0, 0.04, 1, 0.95))
     out = _save(fig, path, dpi)
     plt.close(fig)
     return out

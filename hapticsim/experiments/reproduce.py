@@ -71,7 +71,7 @@ def reproduce(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
 
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), _cpu_seconds()
     trials = list(
         dict.fromkeys(
             (fig4_cfg.trials() if fig4_cfg else []) + (fig5_cfg.trials() if fig5_cfg else [])
@@ -99,6 +99,7 @@ def reproduce(
         by_noise=fig5.by_noise() if fig5 else None,
     )
     seconds = time.perf_counter() - start
+    cpu_seconds = _cpu_seconds() - cpu_start
     summary: dict[str, Any] = {
         "which": which,
         "out_dir": str(out),
@@ -108,8 +109,10 @@ def reproduce(
         "trials": len(trials),
         "seconds": round(seconds, 1),
         "fit_seconds": round(fit_seconds, 1),
+        "cpu_seconds": round(cpu_seconds, 1),
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
         f"{platform.python_version()}",
+        "volume_method": results_list[0].volume_method if results_list else "",
         "fig4": _fig4_means(fig4) if fig4 else None,
         "claims": [{"statement": c.statement, "verdict": c.verdict} for c in claims],
     }
@@ -126,6 +129,15 @@ def reproduce(
     write_json(out / "summary.json", {**summary, "claims": [c.to_dict() for c in claims]})
     summary["files"]["summary"] = str(out / "summary.json")
     return summary
+
+
+def _cpu_seconds() -> float:
+    """CPU time [s] of this process and its finished children (the pool's workers)."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
 def _fig4_means(fig4: Fig4Result) -> list[dict[str, Any]]:

@@ -23,11 +23,6 @@ Array = NDArray[np.float64]
 METRICS: tuple[str, ...] = ("theta", "alpha", "beta", "epsilon", "iou", "chamfer", "seconds")
 
 
-def uses_normals(method: str) -> bool:
-    """True for the methods whose EOF uses contact normals (``nLS``, ``nH``; SPEC §3)."""
-    return method.startswith("n")
-
-
 @dataclass(frozen=True)
 class Trial:
     """One fit of one synthetic data set.
@@ -76,7 +71,9 @@ class TrialResult:
         eof: final EOF of the fit [m^2].
         evaluations: EOF evaluations the fit used.
         seconds: wall time of the fit [s].
+        status: why the fit stopped (``FitResult.status``).
         estimate: the fitted superquadric as a SPEC §6 dict.
+        volume_method: how alpha, beta and IoU were computed (``Score.volume_method``).
         points: (n, 3) float, the noisy contact points [m] (kept for pictures).
         normals: (n, 3) float, the noisy contact normals.
     """
@@ -91,7 +88,9 @@ class TrialResult:
     eof: float
     evaluations: int
     seconds: float
+    status: str
     estimate: dict[str, Any]
+    volume_method: str
     points: Array = field(repr=False)
     normals: Array = field(repr=False)
 
@@ -103,7 +102,7 @@ class TrialResult:
             "count": t.count, "run": t.run, "theta": self.theta, "alpha": self.alpha,
             "beta": self.beta, "epsilon": self.epsilon, "iou": self.iou,
             "chamfer": self.chamfer, "eof": self.eof, "evaluations": self.evaluations,
-            "seconds": self.seconds,
+            "seconds": self.seconds, "status": self.status,
         }  # fmt: skip
 
 
@@ -155,6 +154,7 @@ def make_data(trial: Trial) -> tuple[Any, Any]:
 def run_trial(trial: Trial) -> TrialResult:
     """Synthesise the trial's contacts, fit them with its method and budget, and score the fit."""
     from hapticsim.fitting import fit
+    from hapticsim.fitting.methods import uses_normals
     from hapticsim.metrics import score, theta
 
     truth, contacts = make_data(trial)
@@ -177,7 +177,9 @@ def run_trial(trial: Trial) -> TrialResult:
         eof=float(result.eof),
         evaluations=int(result.evaluations),
         seconds=float(result.seconds),
+        status=str(result.status),
         estimate=estimate.to_dict(),
+        volume_method=str(quality.volume_method),
         points=contacts.points,
         normals=contacts.normals,
     )
