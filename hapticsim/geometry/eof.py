@@ -183,20 +183,24 @@ class ResidualWorkspace:
     allocator hands large blocks back to the system and page-faults them in again).
     """
 
+    #: Most block shapes kept (a fitter alternates a few: 1 vector, 13 for a Jacobian, ...).
+    MAX_SHAPES = 6
+
     def __init__(self) -> None:
-        self._key: tuple[int, int] | None = None
-        self._bufs: tuple[Array, Array, Array] | None = None
+        self._bufs: dict[tuple[int, int], tuple[Array, Array, Array]] = {}
 
     def buffers(self, count: int, n: int) -> tuple[Array, Array, Array]:
         """(body (2, 3P, n), terms (7, P, n), scratch (8, P, n)) for P bodies and n contacts."""
-        if self._key != (count, n) or self._bufs is None:
-            self._bufs = (
+        key = (count, n)
+        if key not in self._bufs:
+            if len(self._bufs) >= self.MAX_SHAPES:
+                self._bufs.pop(next(iter(self._bufs)))
+            self._bufs[key] = (
                 np.empty((2, 3 * count, n)),
                 np.empty((7, count, n)),
                 np.empty((8, count, n)),
             )
-            self._key = (count, n)
-        return self._bufs
+        return self._bufs[key]
 
 
 def _residual_block(
@@ -243,6 +247,8 @@ def _residual_block(
     fn.log_abs_scaled(ys, inv_a[:, 1:2], out=lv)
     fn.log_abs_scaled(z, inv_a[:, 2:3], out=lw)
     fn.log_inside_outside_terms(lu, lv, lw, e1, e2, out=terms)
+    # Is any x, y or z exactly 0 (then its log is at the floor)? Only then look for zeros.
+    zeros = with_normals and bool(scratch[4:7].min() < fn.LOG_ZERO)
     log_f = terms[fn.TERM_LOG_F]
 
     # D1 = |p| |1 - F^(-eps1/2)| (SPEC §2), p the untapered point.
@@ -277,7 +283,7 @@ def _residual_block(
     # Model normal J_t^-T grad F (eqs. 3-4) in the body frame, unnormalised.
     shares = fn.gradient_shares(terms, out=scratch[4:7])  # over lu, lv, lw
     nx, ny, nz = normal = (scratch[2], scratch[3], scratch[7])  # over xs, ys, |p|
-    fn.tapered_normals(shares, x, y, z, fx, fy, a, taper, out=normal, tmp=terms[6])
+    fn.tapered_normals(shares, x, y, z, fx, fy, a, taper, normal, terms[6], zeros)
     # D2 = |m - n'|^2 = 2 - 2 m.n' / |n'| for the unit data normal m (eq. 8).
     dot, length, t1 = scratch[4], scratch[5], scratch[6]
     np.multiply(nx, mx, out=dot)
