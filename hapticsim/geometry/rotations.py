@@ -149,9 +149,7 @@ def is_rotation(matrix: NDArray[np.float64], tol: float = ROTATION_TOL) -> bool:
     m = np.asarray(matrix, dtype=np.float64)
     if m.shape != (3, 3) or not np.all(np.isfinite(m)):
         return False
-    return bool(
-        np.allclose(m.T @ m, np.eye(3), atol=tol) and abs(np.linalg.det(m) - 1.0) < tol
-    )
+    return bool(np.allclose(m.T @ m, np.eye(3), atol=tol) and abs(np.linalg.det(m) - 1.0) < tol)
 
 
 def orthonormalize(matrix: NDArray[np.float64]) -> NDArray[np.float64]:
