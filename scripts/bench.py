@@ -6,6 +6,8 @@
 Sections (each a function ``section_<name>(args) -> dict``; add one by writing the function and
 listing it in ``SECTIONS``):
 
+- ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend
+  (:func:`hapticsim.envs.benchmark.benchmark_env`; also ``scripts/bench_env.py``).
 - ``fit``: EOF evaluations per second for 150 contacts with normals, a population of P vectors
   per call (the genetic algorithm's case) and one vector per call (scipy's least squares), best
   and median of repeated timings; and the median seconds (wall clock and CPU) of a default fit
@@ -97,7 +99,17 @@ def section_fit(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {"fit": section_fit}
+def section_env(args: argparse.Namespace) -> dict[str, Any]:
+    """Steps per second of hapticsim/HapticExplore-v0 on each backend (random touches)."""
+    from hapticsim.envs.benchmark import benchmark_env
+
+    return {b: benchmark_env(b, args.env_episodes) for b in ("analytic", "mujoco")}
+
+
+SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
+    "fit": section_fit,
+    "env": section_env,
+}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -106,6 +118,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=2.0, help="timing per throughput case")
     parser.add_argument("--population", type=int, nargs="+", default=[100, 200])
     parser.add_argument("--seeds", type=int, default=3, help="fit: seeds per body")
+    parser.add_argument("--env-episodes", type=int, default=3, help="env: episodes per backend")
     args = parser.parse_args(argv)
     names = list(SECTIONS) if args.section == "all" else [args.section]
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None

@@ -1,0 +1,77 @@
+"""Speed of ``hapticsim/HapticExplore-v0``: environment steps per second in one process."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Any
+
+from hapticsim.errors import InvalidInputError
+
+
+def benchmark_env(
+    backend: str = "analytic",
+    episodes: int = 3,
+    seed: int = 0,
+    objects: str = "paper",
+    progress: bool = True,
+    **env_kwargs: Any,
+) -> dict[str, Any]:
+    """Time random-policy episodes of the environment (default settings otherwise).
+
+    Args:
+        backend: ``"analytic"`` or ``"mujoco"``.
+        episodes: episodes to run (seeds ``seed .. seed + episodes - 1``), >= 1.
+        seed: first seed (environment and actions).
+        objects: object distribution kind.
+        progress: print a line per episode on stderr.
+        **env_kwargs: further environment settings.
+
+    Returns:
+        ``steps_per_second`` (wall clock, resets excluded), ``steps_per_cpu_second`` (process
+        CPU time, which a loaded machine changes less), ``reset_seconds`` per episode, mean
+        ``seconds_per_step`` of the touch, the fit and the metrics, and the fraction of steps
+        that ran a full fit.
+    """
+    import gymnasium as gym
+
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
+
+    if episodes < 1:
+        raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
+    register_envs()
+    env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, objects=objects, **env_kwargs)
+    env.action_space.seed(seed)
+    steps, full = 0, 0
+    parts = {"touch": 0.0, "fit": 0.0, "metrics": 0.0}
+    reset_wall = reset_cpu = 0.0
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    for ep in range(episodes):
+        t, c = time.perf_counter(), time.process_time()
+        env.reset(seed=seed + ep)
+        reset_wall += time.perf_counter() - t
+        reset_cpu += time.process_time() - c
+        done = False
+        while not done:
+            _, _, terminated, truncated, info = env.step(env.action_space.sample())
+            for k in parts:
+                parts[k] += getattr(info["timings"], k)
+            full += info["fit_status"] == "full"
+            steps += 1
+            done = terminated or truncated
+        if progress:
+            print(f"bench env {backend}: episode {ep + 1}/{episodes}", file=sys.stderr)
+    wall = time.perf_counter() - wall0 - reset_wall
+    cpu = time.process_time() - cpu0 - reset_cpu
+    env.close()
+    return {
+        "backend": backend,
+        "objects": objects,
+        "episodes": episodes,
+        "steps": steps,
+        "steps_per_second": steps / wall,
+        "steps_per_cpu_second": steps / cpu,
+        "reset_seconds": reset_wall / episodes,
+        "seconds_per_step": {k: v / steps for k, v in parts.items()},
+        "full_fit_fraction": full / steps,
+    }
