@@ -88,7 +88,7 @@ def _markdown(table: dict[str, Any], noises: list[float]) -> str:
     lines = [head, "|---" * (len(noises) + 1) + "|"]
     for method, cols in table.items():
         cells = [
-            f"eps {c['epsilon']:.3f}, theta {c['theta']:.3f}, {c['seconds']:.2f} s"
+            f"eps {c['epsilon']:.3f}, theta {c['theta']:.2e}, {c['seconds']:.2f} s"
             for c in (cols[str(n)] for n in noises)
         ]
         lines.append(f"| {method} | " + " | ".join(cells) + " |")

@@ -1,7 +1,9 @@
 """The genetic algorithm of the hybrid methods (paper II-C).
 
-Chromosome: the 13 parameters (a, eps, taper, rotation, centre), stored as rotation vectors but
-operated on as rotations. A population evolves generation by generation:
+Chromosome: the 13 parameters (a, eps, taper, rotation, centre). The rotation is carried as a
+matrix during the search (composition, blending and the symmetries are matrix products; a rotation
+vector, additive near 0, wraps at pi) and returned as a rotation vector. A population evolves
+generation by generation:
 
 - **fitness**: the EOF (eq. 9), lower is fitter; the whole generation is one population call;
 - **selection**: tournaments of :attr:`GeneticOptions.tournament` individuals (the fittest wins);
@@ -10,8 +12,9 @@ operated on as rotations. A population evolves generation by generation:
   permuted and flipped to match: the same solid), into the one whose axes are closest to the
   first parent's, so that genes are blended only between like axes. Then a, eps, taper and
   centre are blended gene by gene with weights drawn from [-0.25, 1.25] (BLX-0.25, so children may
-  leave the parents' segment), and the rotation by geodesic interpolation with a weight from the
-  same range;
+  leave the parents' segment; a geometrically), and the rotation matrices linearly with a weight
+  from the same range and re-orthonormalised (after the alignment the parents' axes are close, so
+  this stays near the geodesic between them);
 - **mutation**: log-normal on a, Gaussian on eps, taper and centre, a rotation about a random axis
   by a Gaussian angle; the sizes shrink linearly to a quarter as the budget is used up;
 - **jumps**: with a small probability a quarter turn about body x or y (a and the axis carrying

@@ -1,7 +1,16 @@
 """The hybrid minimiser of H and nH: genetic algorithm, then least squares (paper II-C).
 
-Budget split: the genetic algorithm gets :attr:`HybridOptions.ga_fraction` of the evaluations
-(it stops earlier when it stalls); all the rest goes to least squares, in two rounds:
+Budget split, in order:
+
+0. *seed steps*: every seed (:func:`~hapticsim.fitting.initial.seed_vectors`) takes
+   :attr:`HybridOptions.seed_steps` Levenberg-Marquardt steps, all at once
+   (:mod:`~hapticsim.fitting.batch_lm`, 14 evaluations per seed and step): a seed's EOF says
+   little about its basin (a box seed with the right axes but no taper can score worse than a
+   wrong one), three steps say much more;
+1. *genetic algorithm*: :attr:`HybridOptions.ga_fraction` of what is left (it stops earlier when
+   it stalls), seeded with the stepped seeds;
+
+then least squares, in two rounds:
 
 1. *probe*: :attr:`HybridOptions.probe_steps` Levenberg-Marquardt steps, all at once
    (:mod:`~hapticsim.fitting.batch_lm`), from up to :attr:`HybridOptions.polish` individuals of
@@ -12,9 +21,11 @@ Budget split: the genetic algorithm gets :attr:`HybridOptions.ga_fraction` of th
 2. *polish*: scipy's least squares (:mod:`~hapticsim.fitting.least_squares`) from the probe
    that reached the lowest EOF, with everything that is left.
 
-Before the genetic algorithm, all seeds take :attr:`HybridOptions.seed_steps` such steps too.
-
-The result is the lowest EOF seen (``objective.best_vector``).
+The result is the lowest EOF seen (``objective.best_vector``). With the default budget of
+6000 and 150 contacts, nH spends about 2400-3100 evaluations on the seed steps (55-73 seeds),
+1400-1800 on the GA (33-44 generations of 40), 450 on the probes and 200-500 on the polish,
+which usually converges before the budget is used up; H (10 seeds without normals) about 430,
+2800, 450 and 70-270.
 """
 
 from __future__ import annotations
