@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
 from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.sim.controllers import (
     FingerTask,
     FollowConfig,
@@ -206,14 +207,13 @@ class Explorer:
             sim.set_posture(f.index, TUCKED_POSTURE)
         entry = pose.position - d_new * self.config.back_off
         far = c + (entry - c) * max(1.0, self.safe_radius / np.linalg.norm(entry - c))
-        if np.linalg.norm(back - c) < self.safe_radius or np.linalg.norm(far - back) > 0.05:
-            out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
-            self._go(out, rot)
-            waypoints = self._arc(out, far)
-            for k, w in enumerate(waypoints):
-                self._go(w, pose.rotation if k == len(waypoints) - 1 else sim.mocap_pose()[1])
-                if k == 0:
-                    sim.set_palm_goal(w, pose.rotation)
+        out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
+        self._go(out, rot)
+        # around the object on the safety sphere, turning the palm gradually on the way
+        turn = matrix_to_rotvec(rot.T @ pose.rotation)
+        waypoints = self._arc(out, far)
+        for k, w in enumerate(waypoints, start=1):
+            self._go(w, rot @ rotvec_to_matrix(turn * (k / len(waypoints))))
         self._go(far, pose.rotation)
         self._go(entry, pose.rotation)
         for f, q in postures.items():
