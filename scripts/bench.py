@@ -6,6 +6,9 @@
 Sections (each a function ``section_<name>(args) -> dict``; add one by writing the function and
 listing it in ``SECTIONS``):
 
+- ``sim``: physics steps per second of the hand + object scene (a fingertip pressing) and wall
+  and CPU seconds of a 150-contact ``paper`` exploration per body
+  (:func:`hapticsim.sim.benchmark.benchmark_sim`; also ``scripts/bench_sim.py``).
 - ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend
   (:func:`hapticsim.envs.benchmark.benchmark_env`; also ``scripts/bench_env.py``).
 - ``fit``: EOF evaluations per second for 150 contacts with normals, a population of P vectors
@@ -32,15 +35,24 @@ import numpy as np
 
 
 def _rates(call: Callable[[], Any], per_call: int, seconds: float) -> dict[str, float]:
-    """Evaluations per second of `call` (which does `per_call` of them): best and median."""
+    """Evaluations per second of `call` (which does `per_call` of them).
+
+    ``best`` and ``median`` over the wall-clock times of single calls, and ``cpu``: all calls
+    over the process CPU time they took (insensitive to other processes on the machine).
+    """
     call()  # warm up (workspace, caches)
     times = []
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     while time.perf_counter() - start < seconds or len(times) < 5:
         t0 = time.perf_counter()
         call()
         times.append(time.perf_counter() - t0)
-    return {"best": per_call / min(times), "median": per_call / float(np.median(times))}
+    cpu = time.process_time() - cpu_start
+    return {
+        "best": per_call / min(times),
+        "median": per_call / float(np.median(times)),
+        "cpu": per_call * len(times) / cpu,
+    }
 
 
 def section_fit(args: argparse.Namespace) -> dict[str, Any]:
@@ -55,6 +67,7 @@ def section_fit(args: argparse.Namespace) -> dict[str, Any]:
     rng = np.random.default_rng(0)
     data = paper_dataset(get_body("tapered_box"), noise=0.1, rng=0, count=150)
     objective = Objective(data.points, data.normals, lam=0.5, budget=2**62)
+    tapered = Objective(data.points, data.normals, lam=0.5, budget=2**62, distance="tapered")
     truth = get_body("tapered_box").to_vector()
     scale = np.r_[[0.005] * 3, [0.1] * 4, [0.3] * 3, [0.005] * 3]
     throughput: dict[str, Any] = {"contacts": 150, "normals": True}
@@ -64,6 +77,9 @@ def section_fit(args: argparse.Namespace) -> dict[str, Any]:
             throughput[f"population_{count}"] = _rates(
                 lambda v=vectors: objective.eof(v), count, args.seconds
             )
+        throughput[f"population_{count}_tapered_distance"] = _rates(
+            lambda v=vectors: tapered.eof(v), count, args.seconds
+        )
         one = vectors[:1]
         throughput["single_vector"] = _rates(lambda: objective.eof(one), 1, args.seconds)
 
@@ -106,9 +122,17 @@ def section_env(args: argparse.Namespace) -> dict[str, Any]:
     return {b: benchmark_env(b, args.env_episodes) for b in ("analytic", "mujoco")}
 
 
+def section_sim(args: argparse.Namespace) -> dict[str, Any]:
+    """MuJoCo hand: physics steps per second and a 150-contact paper exploration per body."""
+    from hapticsim.sim.benchmark import benchmark_sim
+
+    return benchmark_sim(count=150)
+
+
 SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
     "fit": section_fit,
     "env": section_env,
+    "sim": section_sim,
 }
 
 

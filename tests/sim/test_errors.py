@@ -63,7 +63,8 @@ def test_no_reachable_surface_is_a_simulation_error() -> None:
 
 
 @pytest.mark.parametrize("field", ["qvel", "qfrc_applied", "qpos"])
-def test_instability_raises_instead_of_nan(field: str) -> None:
+def test_instability_raises_instead_of_nan(field: str, tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs the warning to MUJOCO_LOG.TXT in the cwd
     scene = build_scene(Superquadric(a=(0.03, 0.03, 0.03), eps=(1.0, 1.0)))
     sim = Simulator(scene)
     sim.reset(np.array([0.0, 0.0, 0.2]), np.eye(3))
