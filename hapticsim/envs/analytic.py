@@ -7,10 +7,9 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
   direction) and returns the first point where the inside-outside function ``F <= 1``, found on a
   coarse grid then refined on two finer ones (resolution: search length / 4e5);
 - a **stroke** follows the contour in a plane, like the hand's contour-following controller: the
-  plane through the first contact spanned by its normal and the stroke direction. Each step of
-  ``stroke_spacing`` metres moves along the current tangent (in the plane), then back onto the
-  section curve radially from a point inside it (the middle of the chord along the first normal),
-  so the stroke rolls over edges and corners onto the next face;
+  plane through the first contact spanned by its normal and the stroke direction; contacts lie
+  every ``stroke_spacing`` metres of arc length along that section (:func:`section_walk`), so the
+  stroke rolls over edges and corners onto the next face;
 - a contact where a fingertip would hit the object's support (:class:`~hapticsim.envs.support.
   Support`: by default the thin stand under the object, as in the MuJoCo scene) is unreachable:
   a probe there is ``"blocked"``, a stroke stops there;
@@ -42,20 +41,30 @@ DEFAULT_FINGERS: int = 4
 _RAY_GRID: int = 192
 #: Grid points of each refinement.
 _REFINE_GRID: int = 48
+#: Rays from inside a stroke's section that sample its curve.
+_SECTION_RAYS: int = 256
 
 
-def raycast_many(shape: Superquadric, origins: Array, directions: Array, length: float) -> Array:
+def raycast_many(
+    shape: Superquadric,
+    origins: Array,
+    directions: Array,
+    length: float,
+    grids: tuple[int, ...] = (_RAY_GRID, _REFINE_GRID, _REFINE_GRID),
+) -> Array:
     """Distances along rays to their first intersections with the solid (batched).
 
-    The ray ``origin + s * direction``, ``s in [0, length]``, is sampled on a coarse grid and the
-    first step into the solid (``F <= 1``) is refined on two finer grids, so the distance is
-    accurate to about ``length / 4e5`` for rays that do not graze the surface.
+    The ray ``origin + s * direction``, ``s in [0, length]``, is sampled on a coarse grid of
+    ``grids[0]`` points and the first step into the solid (``F <= 1``) is refined on finer grids,
+    so the distance is accurate to ``length / prod(g - 1 for g in grids)`` (1.4e-6 m for 0.6 m
+    with the default grids) for rays that do not graze the surface.
 
     Args:
         shape: the superquadric.
         origins: (k, 3) float, starts of the rays [m, world].
         directions: (k, 3) float, unit directions.
         length: how far to search [m].
+        grids: samples per level, each >= 2.
 
     Returns:
         (k,) float, s [m] of the first intersection, NaN for rays that do not enter the solid.
@@ -64,21 +73,21 @@ def raycast_many(shape: Superquadric, origins: Array, directions: Array, length:
     directions = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     k = len(origins)
     lo = np.zeros(k)
-    step = np.full(k, float(length) / (_RAY_GRID - 1))
+    step = np.full(k, float(length) / (grids[0] - 1))
     hit = np.ones(k, dtype=bool)
-    for level, count in enumerate((_RAY_GRID, _REFINE_GRID, _REFINE_GRID)):
+    rows = np.arange(k)
+    for level, count in enumerate(grids):
         s = lo[:, None] + step[:, None] * np.arange(count)[None, :]
         pts = origins[:, None, :] + s[..., None] * directions[:, None, :]
         inside = (shape.inside_outside(pts.reshape(-1, 3)) <= 1.0).reshape(k, count)
         any_in = inside.any(axis=1)
         if level == 0:
             hit = any_in
-        first = np.where(any_in, np.argmax(inside, axis=1), count - 1)
-        first = np.maximum(first, 1)
-        lo = s[np.arange(k), first - 1]
-        step = step / (_REFINE_GRID - 1)  # the next grid spans [lo, lo + this step * ...]
-    # After the last level, ``lo + step * (_REFINE_GRID - 1)`` is the first sample inside.
-    return np.where(hit, lo + step * (_REFINE_GRID - 1), np.nan)
+        first = np.maximum(np.where(any_in, np.argmax(inside, axis=1), count - 1), 1)
+        lo = s[rows, first - 1]
+        if level + 1 < len(grids):
+            step = step / (grids[level + 1] - 1)  # the next grid spans one step of this one
+    return np.where(hit, lo + step, np.nan)  # the first sample inside
 
 
 def raycast(shape: Superquadric, origin: Array, direction: Array, length: float) -> float | None:
@@ -121,49 +130,65 @@ def section_walk(
     spacing: float,
     keep: Callable[[Array], bool] | None = None,
 ) -> list[Array]:
-    """Points along the section of `shape` by a stroke's plane, `spacing` apart, from `first`.
+    """Points `spacing` apart (arc length) along the section of `shape` by a stroke's plane.
 
-    Each step moves `spacing` along the current tangent (in the plane), then back onto the
-    section curve radially from a point inside it (the middle of the chord along the first
-    normal), so the walk rolls over edges and corners onto the next face.
+    The section of the convex solid by the plane through `first` spanned by its normal and the
+    stroke direction (:func:`stroke_plane`) is a convex curve; seen from a point inside it (the
+    middle of the chord along the first normal) each direction meets it once. The curve is
+    sampled on 256 such rays, walked from `first` in the stroke direction, and the points at
+    arc lengths ``spacing, 2 spacing, ...`` are moved back onto the exact surface along their
+    rays, so a stroke rolls over edges and corners onto the next face.
 
     Args:
         shape: the convex superquadric.
         first: (3,) float, start point on the surface [m, world].
         stroke_angle: psi [rad] (:func:`stroke_plane`).
-        n_steps: steps to take.
-        spacing: step length [m].
+        n_steps: points to add after `first`.
+        spacing: arc length between points [m].
         keep: stop before the first point for which this returns False (e.g. the support).
 
     Returns:
         ``[first, p1, p2, ...]``, at most ``n_steps + 1`` points (3,) [m, world].
     """
+    first = np.asarray(first, dtype=np.float64)
+    out: list[Array] = [first]
+    if n_steps <= 0:
+        return out
     direction, plane = stroke_plane(shape, first, stroke_angle)
     n0 = shape.normals(first[None, :])[0]
     reach = 4.0 * shape.bounding_radius + 4.0 * float(np.linalg.norm(first - shape.center))
-    # A star centre of the (convex) section: the middle of the chord along the normal.
     back = raycast(shape, first - reach * n0, n0, reach)
     center = first if back is None else 0.5 * (first + (first - reach * n0 + back * n0))
-    out: list[Array] = [np.asarray(first, dtype=np.float64)]
-    p = out[0]
-    for _ in range(n_steps):
-        u = p + spacing * direction - center
-        u -= (u @ plane) * plane  # stay in the plane
-        u /= np.linalg.norm(u)
-        s = raycast(shape, center + reach * u, -u, reach)
-        if s is None:
+    e1 = first - center
+    rho = float(np.linalg.norm(e1))
+    if rho < 1e-9:
+        return out
+    e1 /= rho
+    e2 = np.cross(plane, e1)
+    sign = 1.0 if direction @ e2 >= 0 else -1.0  # walk towards the stroke direction
+    theta = sign * np.linspace(0.0, 2.0 * np.pi, _SECTION_RAYS)
+    rays = np.cos(theta)[:, None] * e1 + np.sin(theta)[:, None] * e2
+    curve = center + _boundary(shape, center, rays, reach)[:, None] * rays
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
+    targets = spacing * np.arange(1, n_steps + 1)
+    targets = targets[targets < arc[-1] - spacing]  # not all the way round
+    if len(targets) == 0:
+        return out
+    approx = np.stack([np.interp(targets, arc, curve[:, k]) for k in range(3)], axis=1)
+    rays = approx - center
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    points = center + _boundary(shape, center, rays, reach)[:, None] * rays
+    for q in points:
+        if keep is not None and not keep(q):
             break
-        q = center + (reach - s) * u
-        if (keep is not None and not keep(q)) or np.linalg.norm(q - p) < 1e-9:
-            break
-        n = shape.normals(q[None, :])[0]
-        t = np.cross(plane, n)
-        norm = np.linalg.norm(t)
-        t = t / norm if norm > 1e-9 else direction
-        direction = t if t @ (q - p) >= 0 else -t
         out.append(q)
-        p = q
     return out
+
+
+def _boundary(shape: Superquadric, inside: Array, rays: Array, reach: float) -> Array:
+    """(k,) distances [m] from an interior point along unit `rays` to the surface."""
+    s = raycast_many(shape, inside + reach * rays, -rays, reach, grids=(96, 48, 48))
+    return reach - np.nan_to_num(s, nan=reach)
 
 
 class AnalyticBackend:

@@ -10,7 +10,8 @@ at least every ``full_every`` touches; a warm-started refinement otherwise. New 
 when their RMS residual (paper eq. 9) on the current estimate exceeds ``surprise`` times the RMS
 residual of the contacts it was fitted to, and ``surprise_floor`` times its mean semi-axis: the
 estimate is wrong where the finger just was (beyond the sensor noise, which both residuals
-share), and a local refinement would stay in its basin.
+share), and a local refinement would stay in its basin. Optionally (``keep``), contacts that
+agree with the estimate as well as the old ones cause no refit at all.
 """
 
 from __future__ import annotations
@@ -46,6 +47,9 @@ class FitSchedule:
             this multiple of the estimate's own RMS residual (``sqrt(EOF)``); ``inf`` turns
             this off.
         surprise_floor: ... and this fraction of the estimate's mean semi-axis.
+        keep: no refit at all when the new contacts' RMS residual is at most this multiple of
+            the estimate's own (they agree with it as well as the old contacts); 0 turns this
+            off.
         full_budget: evaluation budget of a full fit (None: the fitter's default).
         refine_budget: evaluation budget of a refinement (None: the fitter's default).
         min_contacts: fewest contacts to fit (13 parameters: at least 13).
@@ -56,6 +60,7 @@ class FitSchedule:
     full_every: int = 10
     surprise: float = 2.0
     surprise_floor: float = 0.05
+    keep: float = 0.0
     full_budget: int | None = 4000
     refine_budget: int | None = 400
     min_contacts: int = N_PARAMS
@@ -74,6 +79,8 @@ class FitSchedule:
                 raise InvalidInputError(f"`{name}` must be None or an int >= 1, got {value!r}")
         if not (self.surprise > 0):
             raise InvalidInputError(f"`surprise` must be > 0 (inf: off), got {self.surprise!r}")
+        if not (0 <= self.keep < np.inf):
+            raise InvalidInputError(f"`keep` must be finite and >= 0, got {self.keep!r}")
         if not (0 <= self.surprise_floor < np.inf):
             raise InvalidInputError(
                 f"`surprise_floor` must be finite and >= 0, got {self.surprise_floor!r}"
@@ -122,23 +129,12 @@ class IncrementalFitter:
         self.eof = 0.0
         self._touches_since_full = 0
 
-    def surprised(self, points: Array, normals: Array) -> bool:
-        """Whether new contacts contradict the current estimate (see the module docstring).
-
-        Args:
-            points: (k, 3) float, the new contacts [m, world]; normals: (k, 3) float.
-        """
+    def _rms(self, points: Array, normals: Array) -> float:
+        """RMS residual (paper eq. 9) of contacts on the current estimate [m]."""
         est = self.estimate
-        if est is None:
-            return True
-        if len(points) == 0:
-            return False
+        assert est is not None
         r = contact_residuals(points, normals, est.a, est.eps, est.taper, est.rotation, est.center)
-        rms = float(np.sqrt(np.mean(r**2)))
-        sched = self.schedule
-        return rms > sched.surprise * np.sqrt(self.eof) and rms > sched.surprise_floor * float(
-            np.mean(est.a)
-        )
+        return float(np.sqrt(np.mean(r**2)))
 
     def update(
         self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: int = 1
@@ -164,11 +160,16 @@ class IncrementalFitter:
         self._touches_since_full += 1
         if self.estimate is not None and new_contacts <= 0:
             return FitUpdate(self.estimate, self.eof, "kept")
-        full = (
-            self.estimate is None
-            or self._touches_since_full >= sched.full_every
-            or self.surprised(points[-new_contacts:], normals[-new_contacts:])
-        )
+        full = self.estimate is None or self._touches_since_full >= sched.full_every
+        if not full:
+            rms_new = self._rms(points[-new_contacts:], normals[-new_contacts:])
+            rms_fit = np.sqrt(self.eof)
+            floor = sched.surprise_floor * float(np.mean(self.estimate.a))
+            full = rms_new > sched.surprise * rms_fit and rms_new > floor
+            if not full and rms_new <= sched.keep * rms_fit:
+                # The new contacts agree with the estimate as well as the old ones: keep it.
+                self.eof = self._rms(points, normals) ** 2
+                return FitUpdate(self.estimate, self.eof, "kept", 1, time.perf_counter() - start)
         seed = int(rng.integers(2**31 - 1))
         method = sched.method if full else sched.refine_method
         budget = sched.full_budget if full else sched.refine_budget

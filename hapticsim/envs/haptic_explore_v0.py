@@ -88,7 +88,7 @@ class HapticExploreConfig:
             ``reward="epsilon"`` and ``target_epsilon``.
         metric_samples: Monte Carlo samples inside each solid for alpha, beta, epsilon and IoU
             (:func:`hapticsim.metrics.volume_overlap`; standard error <= 0.5 / sqrt(samples):
-            0.0035 at the default 20,000; the same seed every step, so successive scores share
+            0.005 at the default 10,000; the same seed every step, so successive scores share
             their random numbers).
         chamfer_samples: surface samples of the Chamfer distance (:func:`hapticsim.metrics.chamfer`
             on meshes of :data:`CHAMFER_RESOLUTION` longitudes).
@@ -109,8 +109,8 @@ class HapticExploreConfig:
     fit: FitSchedule = field(default_factory=FitSchedule)
     support: str = "stand"
     compute_metrics: bool = True
-    metric_samples: int = 20_000
-    chamfer_samples: int = 300
+    metric_samples: int = 10_000
+    chamfer_samples: int = 200
     width: int = 480
     height: int = 360
 
@@ -287,7 +287,11 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     The fingertip comes from far along the approach direction ``(cos el cos phi, cos el sin phi,
     sin el)`` (object-centred frame) towards the rough position and stops at the first contact;
-    a stroke then follows the contour, one contact every ``stroke_spacing`` metres.
+    a stroke then follows the contour in the plane spanned by that contact's normal and the
+    stroke direction, one contact every ``stroke_spacing`` metres (up to 11 per touch with the
+    defaults). The object stands on a thin post (as in the MuJoCo scene): a contact where the
+    fingertip would hit it is unreachable (the touch is ``"blocked"``, a stroke stops there).
+    The finger matters to the hand (reach, palm placement); the analytic backend records it.
 
     ## Observation space
 
@@ -333,8 +337,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ``refine``, ``kept``, ``failed``), ``fit_eof`` [m^2], ``fit_evaluations``; ``timings``
     (:class:`StepTimings`: touch, fit, metrics, step [s]);
     ``estimate`` and ``truth`` (:class:`~hapticsim.geometry.Superquadric`, world frame),
-    ``origin`` (rough position [m, world]), ``uncertainty``. All contacts, with fingers, forces,
-    times and clean values, are in :attr:`contacts`.
+    ``origin`` (rough position [m, world]), ``uncertainty`` (reward ``"uncertainty"`` only).
+    All contacts, with fingers, forces [N] (MuJoCo; 0 on the analytic backend), times [s] and
+    clean values, are in :attr:`contacts`.
 
     ## Arguments
 

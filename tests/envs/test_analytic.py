@@ -68,11 +68,12 @@ def test_stroke_follows_the_contour_over_an_edge() -> None:
     backend, truth = _backend(stroke_spacing=0.005)
     res = backend.touch(Touch(np.array([1.0, 0.0, 0.0]), np.pi / 2, 0.08, 1), truth.center)
     assert res.status == "ok" and len(res) == 17
-    assert np.max(np.abs(truth.radial_distance(res.points))) < 1e-6
+    # Section rays resolve the surface to reach / (95 * 47 * 47), about 1.5e-6 m here.
+    assert np.max(np.abs(truth.radial_distance(res.points))) < 5e-6
     steps = np.linalg.norm(np.diff(res.points, axis=0), axis=1)
     assert np.all(steps < 0.0055) and np.all(steps > 0.002)
     # Upwards: z grows, and the stroke crosses the top edge (z = a3 = 0.05 m) onto the top.
-    assert np.all(np.diff(res.points[:, 2]) >= -1e-6)
+    assert np.all(np.diff(res.points[:, 2]) >= -5e-6)
     assert res.normals[-1, 2] > 0.9
     assert np.all(res.finger == 1) and np.all(np.diff(res.time) > 0)
 
