@@ -15,6 +15,8 @@ classes (ellipsoid, box, cylinder).
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -120,6 +122,37 @@ def normal_frames(normals_world: Array) -> list[Array]:
     return frames
 
 
+def _cube_rotations() -> Array:
+    """The 24 proper signed permutation matrices (the rotations of a cube), (24, 3, 3)."""
+    out = []
+    for perm in itertools.permutations(range(3)):
+        for signs in itertools.product((1.0, -1.0), repeat=3):
+            m = np.zeros((3, 3))
+            m[list(perm), range(3)] = signs
+            if np.linalg.det(m) > 0:
+                out.append(m)
+    return np.array(out)
+
+
+_CUBE = _cube_rotations()
+#: Frames closer than this, up to relabelling their axes, count as one [rad].
+FRAME_TOLERANCE: float = np.deg2rad(10.0)
+
+
+def distinct_frames(frames: list[Array]) -> list[Array]:
+    """The frames (rotations), less each one that equals an earlier one up to a relabelling of
+    its axes (a cube rotation) within :data:`FRAME_TOLERANCE`: the seeds try every axis as z and
+    the solid is unchanged by the rest, so such a frame would only repeat seeds."""
+    kept: list[Array] = []
+    cos_tol = 1.0 + 2.0 * np.cos(FRAME_TOLERANCE)  # trace of a rotation by the tolerance
+    for frame in frames:
+        # trace(K^T F Q) over kept frames K and cube rotations Q: the closest relabelling.
+        if not any(np.max(np.einsum("ij,qij->q", k.T @ frame, _CUBE.transpose(0, 2, 1))) > cos_tol
+                   for k in kept):  # fmt: skip
+            kept.append(frame)
+    return kept
+
+
 def _frame_seed(
     points_world: Array, normals_world: Array | None, rotation: Array
 ) -> tuple[Array, Array]:
@@ -150,10 +183,11 @@ def seed_vectors(
 ) -> Array:
     """Seed parameter vectors (k, 13) for the global search.
 
-    Frames: the principal axes of the points and, with normals, :func:`normal_frames`. For each
-    frame and each choice of its z axis (cyclic permutations of the columns, which keep det = +1),
-    a box-like placement (:func:`_frame_seed`) with each shape of :data:`SEED_SHAPES`, no taper.
-    The paper's initial estimate comes first, and `initial` (a warm start) before it.
+    Frames: the principal axes of the points and, with normals, :func:`normal_frames`, less those
+    that repeat an earlier one (:func:`distinct_frames`). For each frame and each choice of its z
+    axis (cyclic permutations of the columns, which keep det = +1), a box-like placement
+    (:func:`_frame_seed`) with each shape of :data:`SEED_SHAPES`, no taper. The paper's initial
+    estimate comes first, and `initial` (a warm start) before it.
     """
     seeds = []
     if initial is not None:
@@ -162,7 +196,7 @@ def seed_vectors(
     frames = [principal_axes(points_world)]
     if normals_world is not None:
         frames += normal_frames(normals_world)
-    for frame in frames:
+    for frame in distinct_frames(frames):
         for shift in range(3):
             rotation = np.roll(frame, shift, axis=1)
             center, half = _frame_seed(points_world, normals_world, rotation)
