@@ -166,21 +166,19 @@ def render_results(
             lines += [f"### {i}. {claim.statement} — **{claim.verdict}**", ""]
             lines += [f"- {e}" for e in claim.evidence]
             lines.append("")
-            if claim.notes:
-                lines += ["Where the numbers point to a reason:", ""]
-                lines += [f"- {n}" for n in claim.notes]
-                lines.append("")
-        differ = [(i, c) for i, c in enumerate(claims, 1) if c.verdict != HOLDS]
-        lines += ["## Where we differ from the paper", ""]
+        differ = [(i, c) for i, c in enumerate(claims, 1) if c.verdict != HOLDS or c.notes]
+        lines += [
+            "## Where we differ from the paper, and why",
+            "",
+            "Each reason below is printed because a condition on the numbers above holds "
+            "(e.g. a least-squares fit used under half its budget), with the numbers filled in.",
+            "",
+        ]
         if not differ:
             lines += ["Every claim checked here holds on our numbers.", ""]
         for i, claim in differ:
-            reason = (
-                " ".join(claim.notes)
-                if claim.notes
-                else ("The numbers above do not single out a reason.")
-            )
-            lines += [f"- Claim {i} {claim.verdict}. {reason}"]
+            reason = " ".join(claim.notes) or "The numbers above do not single out a reason."
+            lines += [f"- **Claim {i} {claim.verdict}.** {reason}"]
         if differ:
             lines.append("")
         lines += [

@@ -112,7 +112,7 @@ def reproduce(
         "cpu_seconds": round(cpu_seconds, 1),
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
         f"{platform.python_version()}",
-        "volume_method": results_list[0].volume_method if results_list else "",
+        "volume_method": (fig4.results if fig4 else fig5.budget_results)[0].volume_method,
         "fig4": _fig4_means(fig4) if fig4 else None,
         "claims": [{"statement": c.statement, "verdict": c.verdict} for c in claims],
     }
