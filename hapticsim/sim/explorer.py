@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_float
+from hapticsim._validate import finite_array, finite_float, positive_int
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.sim.controllers import (
@@ -27,7 +27,7 @@ from hapticsim.sim.controllers import (
     ProbeConfig,
     ProbeTask,
 )
-from hapticsim.sim.hand import TIP_RADIUS
+from hapticsim.sim.hand import TIP_RADIUS, finger_index
 from hapticsim.sim.planning import PROBE_POSTURE, PalmPlanner, PalmPose
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject
@@ -66,6 +66,7 @@ class ExplorerConfig:
         for name in ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"):
             if finite_float(getattr(self, name), name) <= 0:
                 raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+        positive_int(self.max_misses, "max_misses")
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,15 @@ class StripeSpec:
     plane_normal_world: Array
     direction_world: Array
     length: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "finger", finger_index(self.finger))
+        for name in ("plane_normal_world", "direction_world"):
+            v = finite_array(getattr(self, name), name, (3,))
+            if np.linalg.norm(v) < 1e-9:
+                raise InvalidInputError(f"`{name}` must be a non-zero vector")
+            object.__setattr__(self, name, v / np.linalg.norm(v))
+        object.__setattr__(self, "length", finite_float(self.length, "length", low=0.0))
 
 
 class Explorer:
