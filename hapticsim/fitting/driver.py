@@ -140,7 +140,12 @@ _CONTROLLER: Any = None
 
 
 def _single_threaded_blas() -> Any:
-    """Limit BLAS to one thread: OpenBLAS threads slow these small products down many times."""
+    """Limit BLAS to one thread during a fit.
+
+    A guard: threaded OpenBLAS can slow small least-squares products down many times. With the
+    population EOF's (3P, 4) x (4, n) products and scipy's 150 x 13 systems we measured no
+    difference on this 2-vCPU machine either way (nLS 0.26 s, nH 0.38 s CPU, limited or not).
+    """
     global _CONTROLLER
     if _CONTROLLER is None:
         from threadpoolctl import ThreadpoolController

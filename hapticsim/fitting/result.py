@@ -26,7 +26,8 @@ class FitResult:
         evaluations: EOF evaluations used (SPEC §3), <= the budget.
         seconds: wall-clock time of the fit [s].
         history: ``(evaluations (k,) int, best EOF so far (k,) float)``, after each call of the
-            EOF (a population or a single vector).
+            EOF (a population or a single vector), in the search's own metric (the EOF with the
+            ``distance`` the fit searched with; without taper it equals the SPEC EOF).
         status: why the fit stopped, one of :data:`STATUSES`: ``"converged"`` (least squares
             met its tolerances), ``"budget"`` (evaluations used up), or the genetic algorithm's
             ``"stall"``, ``"generations"``, ``"target"`` when nothing was left to polish.
