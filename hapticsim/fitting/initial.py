@@ -96,11 +96,12 @@ def dominant_directions(normals_world: Array, max_count: int = 3) -> list[Array]
 
 
 def normal_frames(normals_world: Array) -> list[Array]:
-    """Candidate rotations from the normals: their principal axes, and frames of face pairs.
+    """Candidate rotations from the normals: their principal axes, and frames of face directions.
 
-    Two dominant directions that are roughly orthogonal (within 30 degrees) span a frame
-    (Gram-Schmidt, third axis by cross product); two roughly opposite ones fix one axis, and the
-    principal axes of the normals the other two.
+    Two dominant directions (:func:`dominant_directions`) that are roughly orthogonal (within 30
+    degrees) span a frame (Gram-Schmidt, third axis by cross product); and each dominant
+    direction alone is taken as an axis, with the principal axis of the normals most orthogonal
+    to it as the next one (a cylinder's flat end, a box touched on one face).
     """
     _, vecs = np.linalg.eigh(normals_world.T @ normals_world)
     frames = [_proper(vecs)]
