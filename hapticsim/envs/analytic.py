@@ -42,7 +42,7 @@ _RAY_GRID: int = 192
 #: Grid points of each refinement.
 _REFINE_GRID: int = 48
 #: Rays from inside a stroke's section that sample its curve.
-_SECTION_RAYS: int = 256
+_SECTION_RAYS: int = 160
 
 
 def raycast_many(
@@ -135,7 +135,7 @@ def section_walk(
     The section of the convex solid by the plane through `first` spanned by its normal and the
     stroke direction (:func:`stroke_plane`) is a convex curve; seen from a point inside it (the
     middle of the chord along the first normal) each direction meets it once. The curve is
-    sampled on 256 such rays, walked from `first` in the stroke direction, and the points at
+    sampled on 160 such rays, walked from `first` in the stroke direction, and the points at
     arc lengths ``spacing, 2 spacing, ...`` are moved back onto the exact surface along their
     rays, so a stroke rolls over edges and corners onto the next face.
 
@@ -168,7 +168,7 @@ def section_walk(
     sign = 1.0 if direction @ e2 >= 0 else -1.0  # walk towards the stroke direction
     theta = sign * np.linspace(0.0, 2.0 * np.pi, _SECTION_RAYS)
     rays = np.cos(theta)[:, None] * e1 + np.sin(theta)[:, None] * e2
-    curve = center + _boundary(shape, center, rays, reach)[:, None] * rays
+    curve = center + _boundary(shape, center, rays, reach, (64, 32, 32))[:, None] * rays
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
     targets = spacing * np.arange(1, n_steps + 1)
     targets = targets[targets < arc[-1] - spacing]  # not all the way round
@@ -185,9 +185,15 @@ def section_walk(
     return out
 
 
-def _boundary(shape: Superquadric, inside: Array, rays: Array, reach: float) -> Array:
+def _boundary(
+    shape: Superquadric,
+    inside: Array,
+    rays: Array,
+    reach: float,
+    grids: tuple[int, ...] = (96, 48, 48),
+) -> Array:
     """(k,) distances [m] from an interior point along unit `rays` to the surface."""
-    s = raycast_many(shape, inside + reach * rays, -rays, reach, grids=(96, 48, 48))
+    s = raycast_many(shape, inside + reach * rays, -rays, reach, grids=grids)
     return reach - np.nan_to_num(s, nan=reach)
 
 

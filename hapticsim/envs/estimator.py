@@ -58,11 +58,11 @@ class FitSchedule:
     method: str = "nH"
     refine_method: str = "nLS"
     full_every: int = 10
-    surprise: float = 2.0
+    surprise: float = 3.0
     surprise_floor: float = 0.05
-    keep: float = 0.0
-    full_budget: int | None = 4000
-    refine_budget: int | None = 400
+    keep: float = 1.0
+    full_budget: int | None = 3000
+    refine_budget: int | None = 200
     min_contacts: int = N_PARAMS
 
     def __post_init__(self) -> None:

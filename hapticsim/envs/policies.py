@@ -4,9 +4,9 @@ A policy sees only the observation (and the environment's public configuration: 
 stroke length, finger count, budget), never the ground truth:
 
 - :class:`RandomPolicy`: uniform random touches.
-- :class:`PaperPolicy`: the paper's scripted pattern (Bierbaum et al., III-A): a thumb patch at a
-  top corner, fingers stroking across the side faces and over the top edges, strokes across the
-  vertical edges; open loop, the same 20 touches for every object.
+- :class:`PaperPolicy`: the paper's scripted pattern (Bierbaum et al., III-A, IV), as the hand's
+  ``paper`` strategy: a corner patch, then three fingers stroking side by side across an edge
+  while the thumb probes a corner, for three edges; open loop, the same 20 touches every time.
 - :class:`UncertaintyPolicy`: touch where the current estimate is least supported by contacts:
   among candidate approach directions, the one whose predicted contact (ray cast on the
   estimate) lies farthest from every contact so far, then stroke towards the least supported
@@ -88,29 +88,33 @@ def _direction(azimuth_deg: float, elevation_deg: float) -> Array:
 
 #: The paper pattern: (azimuth [deg], elevation [deg], stroke angle [deg], stroke length as a
 #: fraction of ``max_stroke``, finger: 0 thumb, 1 index, 2 middle, 3 ring, clipped to the hand).
+#: As the hand's ``paper`` strategy (:mod:`hapticsim.sim.strategies.library`): a corner patch,
+#: then three sweeps, each with three fingers side by side across an edge and the thumb on a
+#: corner at the end of that edge (top-front, bottom-back, back-right), then fill-in touches.
 PAPER_PATTERN: tuple[tuple[float, float, float, float, int], ...] = (
-    # thumb patch at the (+x, +y, +z) corner: short strokes around the corner direction
-    (45, 35, 90, 0.4, 0), (45, 35, -90, 0.4, 0), (30, 25, 0, 0.4, 0), (60, 25, 180, 0.4, 0),
-    # three fingers side by side across the +x face, up and over the top edge
-    (0, 10, 90, 1.0, 1), (15, 10, 90, 1.0, 2), (-15, 10, 90, 1.0, 3),
-    # and across the +y face
-    (90, 10, 90, 1.0, 1), (75, 10, 90, 1.0, 2), (105, 10, 90, 1.0, 3),
-    # strokes across the vertical edges, around the object
-    (45, 0, 0, 1.0, 1), (135, 0, 0, 1.0, 2), (-135, 0, 0, 1.0, 1), (-45, 0, 0, 1.0, 2),
-    # the opposite faces, up over the top edges
-    (180, 10, 90, 1.0, 1), (-90, 10, 90, 1.0, 2),
-    # the opposite corner and the top
-    (-135, 35, 90, 0.4, 0), (-135, 35, -90, 0.4, 0), (0, 90, 0, 1.0, 1), (0, 90, 90, 1.0, 2),
+    # corner patch at the (+x, +y, +z) corner: short strokes around the corner direction
+    (45, 35, 90, 0.4, 1), (45, 35, -90, 0.4, 1), (30, 25, 0, 0.4, 1), (60, 25, 180, 0.4, 1),
+    # sweep 1: the +x face up over the top edge, thumb on the (+x, -y, +z) corner
+    (0, 0, 90, 1.0, 1), (15, 0, 90, 1.0, 2), (-15, 0, 90, 1.0, 3), (-45, 35, -90, 0.4, 0),
+    # sweep 2: the -x face down over the bottom edge, thumb on the (-x, +y, -z) corner
+    (180, 0, -90, 1.0, 1), (165, 0, -90, 1.0, 2), (-165, 0, -90, 1.0, 3),
+    (135, -35, 90, 0.4, 0),
+    # sweep 3: the -y face sideways over the vertical edge to -x, thumb on (-x, -y, +z)
+    (-90, 20, 180, 1.0, 1), (-90, 0, 180, 1.0, 2), (-90, -20, 180, 1.0, 3),
+    (-135, 35, -90, 0.4, 0),
+    # fill-in: the +y face down and up, the top, the lower (+x, +y) corner
+    (90, 0, -90, 1.0, 1), (90, 30, 90, 1.0, 2), (0, 90, 90, 1.0, 1), (45, -35, 90, 0.4, 0),
 )  # fmt: skip
 
 
 class PaperPolicy(Policy):
     """The paper's exploration pattern as a fixed sequence of touches (:data:`PAPER_PATTERN`).
 
-    A thumb patch at a top corner disambiguates the tapering, strokes crossing edges and adjacent
-    faces fix extents and shape exponents (paper III-A, "a thumb touching the cube's corner while
-    moving three fingers in parallel across its side face"). The sequence repeats after 20
-    touches. Open loop: it ignores the observation.
+    A patch at a corner disambiguates the tapering, strokes crossing edges and adjacent faces fix
+    extents and shape exponents (paper III-A; IV: "a thumb touching the cube's corner while
+    moving three fingers in parallel across its side face"). Designed for the paper's bodies in
+    their axis-aligned pose; the sequence repeats after 20 touches. Open loop: it ignores the
+    observation (but for the touch count).
     """
 
     name = "paper"

@@ -101,14 +101,19 @@ def _random_steps(env: HapticExploreEnv, steps: int, episode_length: int) -> Non
             obs, _ = env.reset()
     assert episodes == steps // episode_length
     assert {"ok", "blocked"} <= statuses
-    assert {"too_few_contacts", "full", "refine"} <= fits
+    assert {"too_few_contacts", "full", "refine", "kept"} <= fits
 
 
 def test_one_thousand_random_steps_without_nan_or_exceptions() -> None:
-    # Cheap fits and no scoring keep 1,000 steps fast; the slow test below uses the defaults.
+    # The contract does not depend on the fit's budget: cheap least-squares fits and no scoring
+    # keep 1,000 steps fast (measured 0.04 s of CPU per step on a loaded 2-core machine). The
+    # slow test below runs the default settings.
+    cheap = FitSchedule(
+        method="nLS", full_budget=100, refine_budget=50, full_every=100, surprise=float("inf")
+    )
     env = make(
-        objects="random_tapered", noise=0.1, touch_budget=10, reward="uncertainty",
-        compute_metrics=False, fit=FitSchedule(full_budget=300, refine_budget=60, full_every=5),
+        objects="random_tapered", noise=0.1, touch_budget=10, reward="eof",
+        compute_metrics=False, fit=cheap,
     )  # fmt: skip
     _random_steps(env, 1000, 10)
 
