@@ -101,6 +101,7 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         out_dir=args.out,
         render=args.render,
         progress=not args.quiet,
+        count=args.count,
     )
     _print_json(summary)
     return 0
@@ -153,7 +154,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("fit", help="fit a superquadric to a contacts file")
     p.add_argument("contacts", help=".npz or .csv contacts file (SPEC §6)")
     p.add_argument("--method", choices=METHODS, default="nH")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(
         "--budget", type=int, default=None, help=f"EOF evaluations (default {DEFAULT_BUDGET})"
     )
@@ -165,8 +166,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--strategy", default="paper", help="exploration strategy (default paper)")
     p.add_argument("--noise", type=float, default=0.0, help="sensor noise sigma_N (default 0)")
     p.add_argument("--method", choices=METHODS, default="nH")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--out", default=None, help="output directory (default runs/OBJECT-seedN)")
+    p.add_argument("--seed", type=_seed, default=0)
+    p.add_argument(
+        "--out", default=None, help="output directory (default runs/OBJECT-STRATEGY-seedN)"
+    )
+    p.add_argument("--count", type=int, default=150, help="contacts to gather (default 150)")
     p.add_argument("--render", action="store_true", help="also render the scene (MUJOCO_GL=egl)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_explore)
@@ -175,7 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("which", choices=("fig4", "fig5", "all"))
     p.add_argument("--out", default="runs/reproduce", help="output directory")
     p.add_argument("--runs", type=int, default=10, help="runs (data sets) per setting (default 10)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_seed, default=0)
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     p.add_argument(
         "--results", default=None, help="also write the Markdown report here (e.g. RESULTS.md)"
