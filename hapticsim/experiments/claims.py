@@ -25,6 +25,10 @@ import numpy as np
 
 from hapticsim.experiments.stats import PairedDifference, paired_difference
 
+#: Spreads (interquartile ranges of epsilon) closer than this count as equal: about twice the
+#: Monte Carlo accuracy of alpha and beta (SPEC §4: 0.005).
+SPREAD_TOL = 0.01
+
 HOLDS = "holds"
 PARTLY = "partly holds"
 FAILS = "does not hold"
@@ -116,6 +120,15 @@ def _combine(parts: Sequence[bool | None]) -> str:
     if any(p is False for p in parts):
         return FAILS
     return UNCLEAR
+
+
+def _smaller(a: float, b: float, tol: float) -> bool | None:
+    """True if a < b by more than `tol`, False if a > b by more than `tol`, else None."""
+    if a < b - tol:
+        return True
+    if a > b + tol:
+        return False
+    return None
 
 
 def _word(result: bool | None, yes: str, no: str, unclear: str) -> str:
@@ -327,9 +340,9 @@ def hybrid_stable_with_n(
         c_ls = _Curve.of(by_budget, ls, "budget", "epsilon")
         c_hy = _Curve.of(by_budget, hy, "budget", "epsilon")
         tol = 2.0 * float(np.median(np.concatenate([c_ls.sem, c_hy.sem])))
-        steadier = c_hy.rises(tol) <= c_ls.rises(tol)
+        steadier = _smaller(c_hy.rises(tol), c_ls.rises(tol), 0.0)
         spread_ls, spread_hy = float(np.mean(c_ls.iqr[k:])), float(np.mean(c_hy.iqr[k:]))
-        tighter = spread_hy <= spread_ls
+        tighter = _smaller(spread_hy, spread_ls, SPREAD_TOL)
         parts += [_lower(final), steadier, tighter]
         evidence += [
             f"{body}, n = {n_max}: " + _describe(final, ls, hy),
@@ -337,9 +350,9 @@ def hybrid_stable_with_n(
             f"{_fmt_curve(c_ls.mean)}; {hy} {_fmt_curve(c_hy.mean)}",
             f"rises of the mean ε curve larger than {tol:.3f} (two standard errors): {ls} "
             f"{c_ls.rises(tol):.3f}, {hy} {c_hy.rises(tol):.3f} "
-            f"({'hybrid steadier or as steady' if steadier else 'hybrid less steady'}); mean "
+            f"({_word(steadier, 'hybrid steadier', 'hybrid less steady', 'as steady')}); mean "
             f"interquartile range of ε for n ≥ {upper[0]}: {ls} {spread_ls:.3f}, {hy} "
-            f"{spread_hy:.3f} ({'hybrid tighter' if tighter else 'hybrid not tighter'})",
+            f"{spread_hy:.3f} ({_word(tighter, 'hybrid tighter', 'hybrid wider', 'as tight')})",
         ]
         t_hy = _Curve.of(by_budget, hy, "budget", "theta")
         best = int(np.argmin(c_hy.mean))
@@ -385,14 +398,15 @@ def normals_stabilise_noise(
         overall = _paired(noise_rows, plain, with_n, "epsilon")
         at_high = _paired(noise_rows, plain, with_n, "epsilon", where=lambda r: r["noise"] in high)
         c_p, c_n = curves[plain], curves[with_n]
-        steadier = float(np.mean(c_n.iqr)) <= float(np.mean(c_p.iqr))
+        steadier = _smaller(float(np.mean(c_n.iqr)), float(np.mean(c_p.iqr)), SPREAD_TOL)
         parts += [_lower(overall), steadier]
         evidence += [
             f"{body}, all σ_N: " + _describe(overall, plain, with_n),
             f"σ_N ≥ {high[0]:g}: " + _describe(at_high, plain, with_n),
             f"mean ε along σ_N = {', '.join(f'{s:g}' for s in noises)}: {plain} "
             f"{_fmt_curve(c_p.mean)}; {with_n} {_fmt_curve(c_n.mean)}; mean interquartile "
-            f"range {np.mean(c_p.iqr):.3f} vs. {np.mean(c_n.iqr):.3f}",
+            f"range {np.mean(c_p.iqr):.3f} vs. {np.mean(c_n.iqr):.3f} "
+            f"({_word(steadier, 'narrower with normals', 'wider with normals', 'as wide')})",
         ]
         low_p, low_n, low_best = c_p.mean[0], c_n.mean[0], curves[best_low].mean[0]
         if _lower(overall) is not True and min(low_p, low_n) > max(2 * low_best, 0.1):

@@ -82,7 +82,7 @@ def reproduce(
         cost=lambda t: t.budget,
     )  # fmt: skip
     done = dict(zip(trials, results_list, strict=True))
-    fit_seconds = time.perf_counter() - start
+    sweep_seconds = time.perf_counter() - start
 
     files: dict[str, Path] = {}
     fig4 = collect_fig4(fig4_cfg, done) if fig4_cfg else None
@@ -108,7 +108,7 @@ def reproduce(
         "workers": n_workers,
         "trials": len(trials),
         "seconds": round(seconds, 1),
-        "fit_seconds": round(fit_seconds, 1),
+        "sweep_seconds": round(sweep_seconds, 1),
         "cpu_seconds": round(cpu_seconds, 1),
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
         f"{platform.python_version()}",

@@ -64,10 +64,10 @@ def _mean_eps(rows: list[dict[str, str]], method: str, **where: str) -> float:
 def test_reduced_reproduction_orderings(reduced: tuple[dict, Path]) -> None:
     """Orderings that hold with margin in the full run and in reduced runs of other seeds.
 
-    MEASURED (mean ε; reduced = this fixture's settings, seeds 0-5; full = RESULTS.md):
-    - Fig. 4, nH vs. LS over all bodies: reduced margins LS - nH 0.08 to 0.17; full 0.13.
-      nH had the lowest mean ε of the four methods in all six reduced runs and in the full run.
-    - Noise sweep (cube), nH vs. LS: reduced margins 0.14 to 0.24; full 0.21.
+    MEASURED (mean ε; reduced = this fixture's settings, seeds 0-5; full = RESULTS.md, seed 0):
+    - Fig. 4, LS - nH over all bodies: reduced 0.085 to 0.187; full 0.135. nH had the lowest
+      mean ε of the four methods in all six reduced runs and in the full run.
+    - Noise sweep (cube), LS - nH: reduced 0.133 to 0.248; full 0.200.
     """
     summary, _ = reduced
     fig4 = _read(summary["files"]["fig4_runs_csv"])
