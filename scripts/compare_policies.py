@@ -40,7 +40,10 @@ def main(argv: list[str] | None = None) -> int:
         args.policies, args.objects, args.episodes, seed=args.seed, workers=args.workers,
         backend=args.backend, touch_budget=args.budget, noise=args.noise,
     )  # fmt: skip
-    paths = write_comparison(cmp, args.out)
+    command = "python scripts/compare_policies.py " + " ".join(
+        sys.argv[1:] if argv is None else argv
+    )
+    paths = write_comparison(cmp, args.out, command.strip())
     print(paths["md"].read_text())
     print(
         f"wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - start:.0f} s",

@@ -191,6 +191,16 @@ def compare_policies(
     )
 
 
+def load_comparison(path: str | Path) -> Comparison:
+    """A comparison read back from the ``raw.json`` that :func:`write_comparison` wrote."""
+    raw = json.loads(Path(path).read_text())
+    episodes = tuple(raw["episodes"])
+    policies = raw.get("policies") or list(dict.fromkeys(e["policy"] for e in episodes))
+    objects = raw.get("object_sets") or list(dict.fromkeys(e["objects"] for e in episodes))
+    budget = raw.get("budget") or raw["settings"]["touch_budget"]
+    return Comparison(tuple(policies), tuple(objects), int(budget), episodes, raw["settings"])
+
+
 def _markdown_table(cmp: Comparison, objects: str) -> str:
     touches = [n for n in TABLE_TOUCHES if n <= cmp.budget]
     head = "| N | " + " | ".join(f"{p} mean ± std (median)" for p in cmp.policies) + " |"
@@ -206,12 +216,15 @@ def _markdown_table(cmp: Comparison, objects: str) -> str:
     return "\n".join(lines)
 
 
-def write_comparison(cmp: Comparison, out_dir: str | Path) -> dict[str, Path]:
+def write_comparison(
+    cmp: Comparison, out_dir: str | Path, command: str = "python scripts/compare_policies.py"
+) -> dict[str, Path]:
     """Write ``epsilon.csv``, ``README.md`` (tables + paired tests), ``epsilon.png``, ``raw.json``.
 
     Args:
         cmp: the comparison.
         out_dir: folder (created).
+        command: the command that made it (quoted in the README).
 
     Returns:
         the paths written, by kind.
@@ -276,7 +289,7 @@ def write_comparison(cmp: Comparison, out_dir: str | Path) -> dict[str, Path]:
         f"{s['max_stroke']} m, contacts every {s['stroke_spacing']} m; fit schedule {s['fit']}; "
         f"root seed {s['seed']}. Plot: `epsilon.png`; all numbers: `epsilon.csv`, `raw.json`.",
         "",
-        "Made by `python scripts/compare_policies.py`.",
+        f"Made by `{command}`.",
     ]
     for o in cmp.object_sets:
         md += ["", f"## Objects: {o}", "", _markdown_table(cmp, o), ""]
@@ -299,7 +312,11 @@ def write_comparison(cmp: Comparison, out_dir: str | Path) -> dict[str, Path]:
     paths["md"] = out / "README.md"
     write_text_atomic(paths["md"], "\n".join(md) + "\n")
     paths["json"] = out / "raw.json"
-    raw = {"settings": cmp.settings, "episodes": list(cmp.episodes)}
+    raw = {
+        "settings": cmp.settings, "policies": list(cmp.policies),
+        "object_sets": list(cmp.object_sets), "budget": cmp.budget,
+        "episodes": list(cmp.episodes),
+    }  # fmt: skip
     write_text_atomic(paths["json"], json.dumps(raw, default=_json_default) + "\n")
     return paths
 

@@ -49,7 +49,10 @@ def test_touch_under_the_object_is_blocked_by_the_stand(backend: MujocoBackend) 
 
 
 def test_env_steps_with_the_hand() -> None:
-    env = HapticExploreEnv(backend="mujoco", objects="paper", fit=FAST_FIT, touch_budget=3)
+    env = HapticExploreEnv(
+        backend="mujoco", objects="paper", fit=FAST_FIT, touch_budget=3,
+        render_mode="rgb_array", width=160, height=120,
+    )  # fmt: skip
     obs, info = env.reset(seed=0)
     total = 0
     for k in range(3):
@@ -61,6 +64,8 @@ def test_env_steps_with_the_hand() -> None:
         total += info["new_contacts"]
     assert truncated and total >= 6 and info["n_contacts"] == total
     assert set(np.unique(env.contacts.extra["finger"])) <= {1, 2, 3}
+    img = env.render()
+    assert img.shape == (120, 160, 3) and img.dtype == np.uint8 and img.std() > 5
     env.close()
 
 

@@ -85,3 +85,25 @@ def test_summarize_pads_short_episodes() -> None:
     out = summarize([rec, rec], budget=4)
     np.testing.assert_array_equal(out["mean"], [1.0, 0.5, 0.5, 0.5])
     assert np.all(out["std"] == 0)
+
+
+def test_comparison_runs_writes_and_reads_back(tmp_path) -> None:  # noqa: ANN001
+    from hapticsim.envs.comparison import compare_policies, load_comparison, write_comparison
+
+    cmp = compare_policies(
+        ["random", "uncertainty"], ["paper"], episodes=2, workers=1, progress=False,
+        backend="analytic", touch_budget=3, fit=FAST_FIT,
+    )  # fmt: skip
+    assert cmp.epsilon("random", "paper").shape == (2, 3)
+    paths = write_comparison(cmp, tmp_path, "test")
+    assert {p.name for p in paths.values()} == {
+        "epsilon.csv",
+        "epsilon.png",
+        "README.md",
+        "raw.json",
+    }
+    back = load_comparison(paths["json"])
+    np.testing.assert_array_equal(
+        back.epsilon("uncertainty", "paper"), cmp.epsilon("uncertainty", "paper")
+    )
+    assert "| 3 |" in paths["md"].read_text()
