@@ -2,8 +2,10 @@
 
 An example that the environment works with the ecosystem's tools, not a tuned agent: PPO with
 the ``MultiInputPolicy`` (the observation is a Dict) on the fast analytic backend, several
-environments in subprocesses, then a short evaluation of the trained policy against random
-touches on the same objects (mean epsilon after the last touch). Needs the ``rl`` extra:
+environments in subprocesses, then a short evaluation of the trained policy (its mean action,
+and sampled actions) against random touches on the same objects (epsilon after the last touch).
+A few thousand steps teach PPO little: its mean action repeats nearly the same touch. Needs the
+``rl`` extra:
 
     pip install torch==2.13.0            # this machine: the CPU wheel from local disk
     pip install -e ".[rl]"
@@ -66,13 +68,21 @@ def main(argv: list[str] | None = None) -> int:
 
     env = gym.make(HAPTIC_EXPLORE_ID, **env_kwargs)
 
-    def ppo_policy(obs: dict) -> np.ndarray:
-        action, _ = model.predict(obs, deterministic=True)
-        return action
+    def ppo_policy(deterministic: bool):  # noqa: ANN202
+        def act(obs: dict) -> np.ndarray:
+            action, _ = model.predict(obs, deterministic=deterministic)
+            return action
+
+        return act
 
     seeds = [10_000 + i for i in range(args.eval_episodes)]  # objects not seen in training
     final = {
-        "ppo": [float(run_episode(env, ppo_policy, seed=s).epsilon[-1]) for s in seeds],
+        "ppo_deterministic": [
+            float(run_episode(env, ppo_policy(True), seed=s).epsilon[-1]) for s in seeds
+        ],
+        "ppo_stochastic": [
+            float(run_episode(env, ppo_policy(False), seed=s).epsilon[-1]) for s in seeds
+        ],
         "random": [
             float(run_episode(env, RandomPolicy(env, rng=s), seed=s).epsilon[-1]) for s in seeds
         ],
