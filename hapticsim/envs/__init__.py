@@ -9,7 +9,9 @@ registered when ``hapticsim`` is imported::
     env = gym.make("hapticsim/HapticExplore-v0", backend="analytic")
 
 Modules: ``haptic_explore_v0`` (the environment), ``touch`` (action semantics, backend protocol),
-``analytic`` and ``mujoco_backend`` (backends), ``estimator`` (the fit schedule), ``objects``
-(object distributions), ``policies`` (baseline exploration policies), ``registration``.
-Importing this package does not import gymnasium or MuJoCo.
+``analytic`` and ``mujoco_backend`` (the two backends), ``support`` (which contacts the object's
+stand makes unreachable), ``estimator`` (the fit schedule), ``objects`` (object distributions),
+``policies`` (baseline exploration policies), ``comparison`` (policy comparison: tables, plot),
+``benchmark`` (steps per second), ``rendering`` (pictures), ``registration``.
+Importing this package imports neither gymnasium nor MuJoCo.
 """
