@@ -44,7 +44,7 @@ def get_body(name: str) -> Superquadric:
         InvalidInputError: an unknown name; the message lists the valid ones.
     """
     if not isinstance(name, str) or name not in BODIES:
-        raise InvalidInputError(f"`name` must be one of {', '.join(BODY_NAMES)}, got {name!r}")
+        raise InvalidInputError(f"unknown body {name!r}: the bodies are {', '.join(BODY_NAMES)}")
     return BODIES[name]
 
 

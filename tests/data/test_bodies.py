@@ -45,7 +45,7 @@ def test_resolve_body_by_name_and_by_json(tmp_path: Path) -> None:
     ("call", "match"),
     [
         (lambda tmp: get_body("sphere"), "tapered_box, cube, cylinder, ellipsoid"),
-        (lambda tmp: get_body(3), "`name`"),
+        (lambda tmp: get_body(3), "unknown body 3"),
         (lambda tmp: resolve_body("sphere"), "tapered_box, cube, cylinder, ellipsoid"),
         (lambda tmp: resolve_body(str(tmp / "missing.json")), "not found"),
         (lambda tmp: resolve_body(None), "`name_or_path`"),
