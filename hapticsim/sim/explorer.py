@@ -154,18 +154,29 @@ class Explorer:
         """True when the simulated-time budget is used up or too many probes in a row missed."""
         return self.sim.time > self.config.max_sim_time or self.misses >= self.config.max_misses
 
-    def _go(self, position: Array, rotation: Array, settle: bool = False) -> None:
+    def _go(
+        self, position: Array, rotation: Array, settle: bool = False, transit: bool = False
+    ) -> None:
+        """Move the palm (mocap) to a pose; no controller runs, so no contacts are read.
+
+        Args:
+            position: (3,) float, palm goal [m, world].
+            rotation: (3, 3) float, palm goal rotation.
+            settle: then wait (up to 0.15 s) for the palm itself to get there.
+            transit: free-space speeds (:attr:`ServoConfig.transit_speed`): only on the safety
+                sphere and moving out to it, fingers tucked.
+        """
         sim = self.sim
-        sim.set_palm_goal(position, rotation)
+        sim.set_palm_goal(position, rotation, transit=transit)
         limit = sim.time + 5.0
         while not sim.palm_at_goal():
-            sim.tick()
+            sim.tick(read=False)
             if sim.time > limit:
                 raise SimulationError("the palm did not reach its goal within 5 s")
         if settle:
             until = sim.time + 0.15
             while sim.time < until:
-                sim.tick()
+                sim.tick(read=False)
                 pos, _ = sim.palm_pose()
                 if np.linalg.norm(pos - position) < 5e-4 and sim.time > until - 0.1:
                     break
@@ -218,13 +229,14 @@ class Explorer:
         entry = pose.position - d_new * self.config.back_off
         far = c + (entry - c) * max(1.0, self.safe_radius / np.linalg.norm(entry - c))
         out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
-        self._go(out, rot)
-        # around the object on the safety sphere, turning the palm gradually on the way
+        # out to the safety sphere and around the object on it, turning the palm gradually on
+        # the way: free space, fingers tucked, so at the transit speeds
+        self._go(out, rot, transit=True)
         turn = matrix_to_rotvec(rot.T @ pose.rotation)
         waypoints = self._arc(out, far)
         for k, w in enumerate(waypoints, start=1):
-            self._go(w, rot @ rotvec_to_matrix(turn * (k / len(waypoints))))
-        self._go(far, pose.rotation)
+            self._go(w, rot @ rotvec_to_matrix(turn * (k / len(waypoints))), transit=True)
+        self._go(far, pose.rotation, transit=True)
         self._go(entry, pose.rotation)
         for f, q in postures.items():
             sim.set_posture(f, q)

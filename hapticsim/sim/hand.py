@@ -7,7 +7,7 @@ a fingertip collision sphere, a site ``<finger>_tip`` at its centre and a touch 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -71,6 +71,8 @@ class Finger:
         actuator_ids: (3,) int, its position actuators.
         ctrl_range: (3, 2) float, control (joint) ranges [rad].
         touch_adr: address of its touch sensor in ``sensordata``.
+        ctrl_low, ctrl_high: (3,) float, the columns of ``ctrl_range`` (contiguous copies for
+            the control loop) [rad].
     """
 
     index: int
@@ -83,6 +85,12 @@ class Finger:
     actuator_ids: NDArray[np.int64]
     ctrl_range: Array
     touch_adr: int
+    ctrl_low: Array = field(init=False, repr=False, compare=False)
+    ctrl_high: Array = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "ctrl_low", np.ascontiguousarray(self.ctrl_range[:, 0]))
+        object.__setattr__(self, "ctrl_high", np.ascontiguousarray(self.ctrl_range[:, 1]))
 
 
 class Hand:
@@ -151,7 +159,7 @@ class Hand:
         """(3, 3) float, d(tip_world)/d(finger joint angles) [m/rad], palm held fixed."""
         f = self.fingers[finger]
         mujoco.mj_jacSite(self.model, data, self._jac, None, f.site_id)
-        return self._jac[:, f.dof_adr].copy()
+        return self._jac[:, f.dof_adr]  # fancy indexing: already a copy
 
     def finger_qpos(self, data: mujoco.MjData, finger: int) -> Array:
         """(3,) float, joint angles of a finger [rad]."""

@@ -14,6 +14,7 @@ The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import mujoco
@@ -54,6 +55,11 @@ class ServoConfig:
         max_tip_error: largest Cartesian error fed to the DLS per tick [m].
         palm_speed: largest palm speed [m/s].
         palm_angular_speed: largest palm angular speed [rad/s].
+        transit_speed: largest palm speed in free space, far from the object (fingers tucked,
+            :meth:`Simulator.set_palm_goal` with ``transit=True``) [m/s]. The palm follows the
+            mocap through a stiff weld (``solref`` 0.008 s), so it lags it by about
+            ``transit_speed * 0.008`` = 1.6 cm, well inside the explorer's safety margin.
+        transit_angular_speed: largest palm angular speed in free space [rad/s].
     """
 
     control_steps: int = 4
@@ -61,10 +67,13 @@ class ServoConfig:
     max_tip_error: float = 0.01
     palm_speed: float = 0.6
     palm_angular_speed: float = 4.0
+    transit_speed: float = 2.0
+    transit_angular_speed: float = 12.0
 
     def __post_init__(self) -> None:
         positive_int(self.control_steps, "control_steps")
-        for name in ("damping", "max_tip_error", "palm_speed", "palm_angular_speed"):
+        for name in ("damping", "max_tip_error", "palm_speed", "palm_angular_speed",
+                     "transit_speed", "transit_angular_speed"):  # fmt: skip
             if finite_float(getattr(self, name), name) <= 0:
                 raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
 
@@ -98,9 +107,27 @@ class Simulator:
         self._palm_goal_pos = np.zeros(3)
         self._palm_goal_quat = np.array([1.0, 0.0, 0.0, 0.0])
         self._palm_reached = True
-        self.contacts = ContactState((None,) * n, 0, 0)
+        self._palm_speed = self.servo.palm_speed
+        self._palm_angular_speed = self.servo.palm_angular_speed
+        self._contacts = ContactState((None,) * n, 0, 0)
+        self._contacts_stale = False
+        # Views and ids used every control tick (MjData's arrays are views: no re-reading).
+        self._warnings = self.data.warning.number  # (mjNWARNING,) int view
+        self._bad_state = np.array(_BAD_STATE, dtype=np.int64)
+        self._rotvec = np.zeros(3)
+        self._quat_buf = np.zeros(4)
 
     # ------------------------------------------------------------------ state
+    @property
+    def contacts(self) -> ContactState:
+        """The fingertip contacts of the current state (read from MuJoCo when first asked for
+        after a tick that did not read them)."""
+        if self._contacts_stale:
+            object_id = self.scene.object_geom_id
+            self._contacts = read_contacts(self.model, self.data, self.hand, object_id)
+            self._contacts_stale = False
+        return self._contacts
+
     @property
     def time(self) -> float:
         """Simulation time [s]."""
@@ -136,7 +163,8 @@ class Simulator:
         self._palm_reached = True
         self.steps = 0
         mujoco.mj_forward(m, d)
-        self.contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
+        self._contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
+        self._contacts_stale = False
 
     def palm_pose(self) -> tuple[Array, Array]:
         """Actual palm position (3,) [m] and rotation (3, 3), world frame."""
@@ -154,8 +182,17 @@ class Simulator:
         return self.hand.tip_world(self.data, finger)
 
     # ------------------------------------------------------------------ commands
-    def set_palm_goal(self, palm_world: Array, palm_rot_world: Array) -> None:
+    def set_palm_goal(
+        self, palm_world: Array, palm_rot_world: Array, transit: bool = False
+    ) -> None:
         """Where the palm should go; the mocap moves there at bounded speed, tick by tick.
+
+        Args:
+            palm_world: (3,) float, goal position [m, world].
+            palm_rot_world: (3, 3) float, goal rotation.
+            transit: move at the free-space speeds (``servo.transit_speed``,
+                ``transit_angular_speed``) instead of ``palm_speed``, ``palm_angular_speed``;
+                only for motion well clear of the object and the table.
 
         Raises:
             SimulationError: the goal is out of the arm's reach.
@@ -165,16 +202,23 @@ class Simulator:
         self._palm_goal_pos = pos.copy()
         self._palm_goal_quat = _quat(finite_array(palm_rot_world, "palm_rot_world", (3, 3)))
         self._palm_reached = False
+        servo = self.servo
+        self._palm_speed = servo.transit_speed if transit else servo.palm_speed
+        self._palm_angular_speed = (
+            servo.transit_angular_speed if transit else servo.palm_angular_speed
+        )
 
     def palm_at_goal(self, tol: float = 1e-4) -> bool:
         """True when the mocap has reached the palm goal."""
         if self._palm_reached:
             return True
         i = self.hand.mocap_id
-        rotvec = np.zeros(3)
+        x, y, z = (self.data.mocap_pos[i] - self._palm_goal_pos).tolist()
+        if x * x + y * y + z * z >= tol * tol:
+            return False
+        rotvec = self._rotvec
         mujoco.mju_subQuat(rotvec, self._palm_goal_quat, self.data.mocap_quat[i])
-        dist = np.linalg.norm(self.data.mocap_pos[i] - self._palm_goal_pos)
-        return bool(dist < tol and np.linalg.norm(rotvec) < 1e-3)
+        return norm(rotvec) < 1e-3
 
     def set_tip_target(self, finger: int, target_world: Array | None) -> None:
         """Cartesian target of a fingertip centre [m, world]; None switches to its posture."""
@@ -196,17 +240,18 @@ class Simulator:
         d, i = self.data, self.hand.mocap_id
         pos = d.mocap_pos[i]
         delta = self._palm_goal_pos - pos
-        dist = float(np.sqrt(delta @ delta))
-        max_step = self.servo.palm_speed * self.dt_control
+        dist = norm(delta)
+        max_step = self._palm_speed * self.dt_control
         if dist <= max_step:
             d.mocap_pos[i] = self._palm_goal_pos
         else:
             d.mocap_pos[i] = pos + delta * (max_step / dist)
-        quat = d.mocap_quat[i].copy()
-        rotvec = np.zeros(3)
+        quat = self._quat_buf
+        quat[:] = d.mocap_quat[i]
+        rotvec = self._rotvec
         mujoco.mju_subQuat(rotvec, self._palm_goal_quat, quat)
-        angle = float(np.sqrt(rotvec @ rotvec))
-        max_angle = self.servo.palm_angular_speed * self.dt_control
+        angle = norm(rotvec)
+        max_angle = self._palm_angular_speed * self.dt_control
         if angle > max_angle:
             mujoco.mju_quatIntegrate(quat, rotvec, max_angle / angle)
             mujoco.mju_normalize4(quat)
@@ -216,38 +261,50 @@ class Simulator:
             self._palm_reached = dist <= max_step
 
     def _servo_fingers(self) -> None:
-        d, hand = self.data, self.hand
+        d, hand, servo = self.data, self.hand, self.servo
+        ctrl, qpos, site_xpos = d.ctrl, d.qpos, d.site_xpos
         for f in hand.fingers:
             target = self._tip_target[f.index]
             if target is None:
-                d.ctrl[f.actuator_ids] = self._posture[f.index]
+                ctrl[f.actuator_ids] = self._posture[f.index]
                 continue
-            error = target - d.site_xpos[f.site_id]
+            error = target - site_xpos[f.site_id]
             length = norm(error)
-            if length > self.servo.max_tip_error:
-                error *= self.servo.max_tip_error / length
+            if length > servo.max_tip_error:
+                error *= servo.max_tip_error / length
             jac = hand.tip_jacobian(d, f.index)
-            q = d.qpos[f.qpos_adr] + dls_step(jac, error, self.servo.damping)
-            d.ctrl[f.actuator_ids] = np.clip(q, f.ctrl_range[:, 0], f.ctrl_range[:, 1])
+            q = qpos[f.qpos_adr] + dls_step(jac, error, servo.damping)
+            ctrl[f.actuator_ids] = np.minimum(np.maximum(q, f.ctrl_low), f.ctrl_high)
 
     def _check_stable(self) -> None:
         d = self.data
-        bad = sum(d.warning[w].number for w in _BAD_STATE)
-        if bad > 0 or not np.isfinite(d.qacc.sum() + d.qpos.sum()):
+        bad = self._warnings[self._bad_state].any()
+        if bad or not math.isfinite(float(d.qacc.sum() + d.qpos.sum())):
             raise SimulationError(
                 f"the simulation went unstable at t = {d.time:.4f} s (bad or non-finite "
                 "positions, velocities or accelerations, mjWARN_BADQACC/BADQVEL/BADQPOS); try a "
                 "smaller timestep or a gentler exploration"
             )
 
-    def tick(self) -> ContactState:
-        """One control tick (see module docstring); returns the contacts after it."""
+    def tick(self, read: bool = True) -> ContactState | None:
+        """One control tick (see module docstring).
+
+        Args:
+            read: read the fingertip contacts after the tick (step 4); with False
+                (palm transit, where no controller looks at them) :attr:`contacts` reads them
+                only if asked for.
+
+        Returns:
+            the contacts after the tick, None without `read`.
+        """
         self._advance_mocap()
         self._servo_fingers()
         mujoco.mj_step(self.model, self.data, nstep=self.servo.control_steps)
         self.steps += self.servo.control_steps
         self._check_stable()
-        self.contacts = read_contacts(self.model, self.data, self.hand, self.scene.object_geom_id)
+        self._contacts_stale = True
+        if not read:
+            return None
         return self.contacts
 
 
