@@ -81,30 +81,36 @@ def read_contacts(
     ncon = int(data.ncon)
     if ncon == 0:
         return ContactState(tuple(best), 0, 0)
+    # Called every control tick with a handful of contacts: a loop over plain ints beats numpy's
+    # per-call overhead here (each attribute of ``data.contact`` is a fresh (ncon, k) copy).
     con = data.contact
-    geoms = con.geom[:ncon]
-    g0, g1 = geoms[:, 0], geoms[:, 1]
-    first = g0 == object_geom_id
-    with_object = first | (g1 == object_geom_id)
-    hand_geom = np.where(first, g1, g0)
-    is_tip = with_object & hand.geom_is_tip[hand_geom]
-    other = int(np.count_nonzero(with_object & ~is_tip))
-    table = int(np.count_nonzero(~with_object & (hand.geom_is_hand[g0] | hand.geom_is_hand[g1])))
-    if not is_tip.any():
+    tip_finger, hand_geoms = hand.tip_finger_of_geom, hand.hand_geom_set
+    other = table = 0
+    tips: list[tuple[int, int, bool]] = []
+    for i, (g0, g1) in enumerate(con.geom.tolist()):
+        if g0 == object_geom_id or g1 == object_geom_id:
+            first = g0 == object_geom_id
+            finger = tip_finger.get(g1 if first else g0, -1)
+            if finger < 0:
+                other += 1
+            else:
+                tips.append((i, finger, first))
+        elif g0 in hand_geoms or g1 in hand_geoms:
+            table += 1
+    if not tips:
         return ContactState(tuple(best), other, table)
     force6 = np.zeros(6)
     now = float(data.time)
     frames, positions, dists, efc = con.frame, con.pos, con.dist, con.efc_address
-    for i in np.flatnonzero(is_tip).tolist():
+    for i, finger, first in tips:
         # the frame points from geom[0] to geom[1]: outward when the object is geom[0]
-        normal = frames[i, :3] if first[i] else -frames[i, :3]
+        normal = frames[i, :3] if first else -frames[i, :3]
         dist = float(dists[i])
         point = positions[i] - 0.5 * dist * normal
         force = 0.0
         if efc[i] >= 0:
             mujoco.mj_contactForce(model, data, i, force6)
             force = max(float(force6[0]), 0.0)
-        finger = int(hand.geom_finger[hand_geom[i]])
         current = best[finger]
         if current is None or force > current.force:
             best[finger] = FingertipContact(

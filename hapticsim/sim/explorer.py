@@ -163,8 +163,9 @@ class Explorer:
             position: (3,) float, palm goal [m, world].
             rotation: (3, 3) float, palm goal rotation.
             settle: then wait (up to 0.15 s) for the palm itself to get there.
-            transit: free-space speeds (:attr:`ServoConfig.transit_speed`): only on the safety
-                sphere and moving out to it, fingers tucked.
+            transit: free-space speeds (:attr:`ServoConfig.transit_speed`): only between the
+                back-off and entry points (out to the safety sphere, on it, in to the entry),
+                fingers tucked.
         """
         sim = self.sim
         sim.set_palm_goal(position, rotation, transit=transit)
@@ -229,15 +230,16 @@ class Explorer:
         entry = pose.position - d_new * self.config.back_off
         far = c + (entry - c) * max(1.0, self.safe_radius / np.linalg.norm(entry - c))
         out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
-        # out to the safety sphere and around the object on it, turning the palm gradually on
-        # the way: free space, fingers tucked, so at the transit speeds
+        # out to the safety sphere, around the object on it (turning the palm gradually on the
+        # way) and in to the entry point, back_off short of the goal: free space with the
+        # fingers tucked, so at the transit speeds
         self._go(out, rot, transit=True)
         turn = matrix_to_rotvec(rot.T @ pose.rotation)
         waypoints = self._arc(out, far)
         for k, w in enumerate(waypoints, start=1):
             self._go(w, rot @ rotvec_to_matrix(turn * (k / len(waypoints))), transit=True)
         self._go(far, pose.rotation, transit=True)
-        self._go(entry, pose.rotation)
+        self._go(entry, pose.rotation, transit=True)
         for f, q in postures.items():
             sim.set_posture(f, q)
         self._go(pose.position, pose.rotation, settle=True)

@@ -149,6 +149,10 @@ class Hand:
         for f in fingers:
             self.geom_finger[f.geom_ids] = f.index
             self.geom_is_tip[f.tip_geom_id] = True
+        #: finger index by fingertip-sphere geom id (the control loop's contact scan).
+        self.tip_finger_of_geom: dict[int, int] = {int(f.tip_geom_id): f.index for f in fingers}
+        #: ids of every geom of the hand, as a set of ints.
+        self.hand_geom_set: frozenset[int] = frozenset(int(g) for g in self.hand_geom_ids)
         self._jac = np.zeros((3, model.nv))
 
     def tip_world(self, data: mujoco.MjData, finger: int) -> Array:

@@ -68,7 +68,7 @@ class ServoConfig:
     palm_speed: float = 0.6
     palm_angular_speed: float = 4.0
     transit_speed: float = 2.0
-    transit_angular_speed: float = 12.0
+    transit_angular_speed: float = 20.0
 
     def __post_init__(self) -> None:
         positive_int(self.control_steps, "control_steps")
