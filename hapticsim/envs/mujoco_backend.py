@@ -45,6 +45,12 @@ Array = NDArray[np.float64]
 N_FINGERS: int = 4
 #: Shortest stroke worth a contour-following run [m]; shorter reachable strokes become probes.
 MIN_STROKE: float = 0.006
+#: Lead of the contour-following target along the tangent in a stroke [m]. It sets the sliding
+#: speed: about 10 cm/s here against 5 cm/s at :class:`~hapticsim.sim.controllers.FollowConfig`'s
+#: 0.002 (which the sim's own explorations keep), 40 % fewer control ticks per stroke. Measured on
+#: seeded random-touch episodes: same contact counts and accuracy (median distance ~1e-5 m,
+#: normal angle p95 < 1.7 deg, max < 2 deg) as at 0.002.
+FOLLOW_LEAD: float = 0.004
 
 
 class MujocoBackend:
@@ -235,7 +241,9 @@ class MujocoBackend:
         cfg = ex.config
         from dataclasses import replace
 
-        ex.config = replace(cfg, follow=replace(cfg.follow, spacing=self.stroke_spacing))
+        ex.config = replace(
+            cfg, follow=replace(cfg.follow, spacing=self.stroke_spacing, lead=FOLLOW_LEAD)
+        )
         try:
             ex.sweep(pose, -normals[mid], [stripe], {touch.finger: q})
         finally:

@@ -58,7 +58,7 @@ class ServoConfig:
         transit_speed: largest palm speed in free space, far from the object (fingers tucked,
             :meth:`Simulator.set_palm_goal` with ``transit=True``) [m/s]. The palm follows the
             mocap through a stiff weld (``solref`` 0.008 s), so it lags it by about
-            ``transit_speed * 0.008`` = 1.6 cm, well inside the explorer's safety margin.
+            ``transit_speed * 0.008`` = 2.4 cm, well inside the explorer's safety margin.
         transit_angular_speed: largest palm angular speed in free space [rad/s].
     """
 
@@ -67,7 +67,7 @@ class ServoConfig:
     max_tip_error: float = 0.01
     palm_speed: float = 0.6
     palm_angular_speed: float = 4.0
-    transit_speed: float = 2.0
+    transit_speed: float = 3.0
     transit_angular_speed: float = 20.0
 
     def __post_init__(self) -> None:
