@@ -236,8 +236,10 @@ class Explorer:
         self._go(out, rot, transit=True)
         turn = matrix_to_rotvec(rot.T @ pose.rotation)
         waypoints = self._arc(out, far)
-        for k, w in enumerate(waypoints, start=1):
-            self._go(w, rot @ rotvec_to_matrix(turn * (k / len(waypoints))), transit=True)
+        fractions = np.arange(1, len(waypoints) + 1) / len(waypoints)
+        turns = rotvec_to_matrix(fractions[:, None] * turn[None, :])  # one batched call
+        for w, turn_k in zip(waypoints, turns, strict=True):
+            self._go(w, rot @ turn_k, transit=True)
         self._go(far, pose.rotation, transit=True)
         self._go(entry, pose.rotation, transit=True)
         for f, q in postures.items():

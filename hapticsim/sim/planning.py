@@ -144,8 +144,9 @@ class PalmPlanner:
         base = rotation_between(u, d)
         rotations = []
         if y_axis_world is None:
-            for ang in np.linspace(0.0, 2 * np.pi, rolls, endpoint=False):
-                rotations.append(rotvec_to_matrix(d * ang) @ base)
+            # one batched Rodrigues call for all rolls (a call costs ~50 us whatever its size)
+            angles = np.linspace(0.0, 2 * np.pi, rolls, endpoint=False)
+            rotations.extend(rotvec_to_matrix(angles[:, None] * d[None, :]) @ base)
         else:
             y = np.asarray(y_axis_world, float)
             y = y - (y @ d) * d
