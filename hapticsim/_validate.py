@@ -117,3 +117,16 @@ def superquadric_arg(value: Any, name: str) -> Any:
     if not isinstance(value, Superquadric):
         raise InvalidInputError(f"`{name}` must be a Superquadric, got {type(value).__name__}")
     return value
+
+
+def positive_fields(obj: Any, names: tuple[str, ...] | list[str], unit: str = "") -> None:
+    """Check that each named attribute of `obj` (a config dataclass) is a finite float > 0.
+
+    Raises:
+        InvalidInputError: naming the first field that is not, e.g. "`lead` must be > 0, got -1".
+    """
+    suffix = f" [{unit}]" if unit else ""
+    for name in names:
+        value = getattr(obj, name)
+        if finite_float(value, name) <= 0:
+            raise InvalidInputError(f"`{name}` must be > 0{suffix}, got {value!r}")

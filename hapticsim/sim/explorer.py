@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array, finite_float, positive_int
+from hapticsim._validate import finite_array, finite_float, positive_fields, positive_int
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.sim.controllers import (
@@ -63,9 +63,7 @@ class ExplorerConfig:
     max_misses: int = 30
 
     def __post_init__(self) -> None:
-        for name in ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"):
-            if finite_float(getattr(self, name), name) <= 0:
-                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+        positive_fields(self, ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"))
         positive_int(self.max_misses, "max_misses")
 
 

@@ -21,8 +21,8 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array, finite_float, positive_int
-from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim._validate import finite_array, positive_fields, positive_int
+from hapticsim.errors import SimulationError
 from hapticsim.sim._vec import norm
 from hapticsim.sim.contacts import ContactState, read_contacts
 from hapticsim.sim.dls import dls_step
@@ -72,10 +72,8 @@ class ServoConfig:
 
     def __post_init__(self) -> None:
         positive_int(self.control_steps, "control_steps")
-        for name in ("damping", "max_tip_error", "palm_speed", "palm_angular_speed",
-                     "transit_speed", "transit_angular_speed"):  # fmt: skip
-            if finite_float(getattr(self, name), name) <= 0:
-                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+        speeds = "palm_speed palm_angular_speed transit_speed transit_angular_speed"
+        positive_fields(self, ["damping", "max_tip_error", *speeds.split()])
 
 
 def _quat(rot: Array) -> Array:

@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array, finite_float
-from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim._validate import finite_array, positive_fields
+from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
 
 Array = NDArray[np.float64]
@@ -37,9 +37,7 @@ class Workspace:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "base_world", finite_array(self.base_world, "base_world", (3,)))
-        for name in ("reach", "max_object_radius", "clearance"):
-            if finite_float(getattr(self, name), name) <= 0:
-                raise InvalidInputError(f"`{name}` must be > 0 [m], got {getattr(self, name)!r}")
+        positive_fields(self, ("reach", "max_object_radius", "clearance"), unit="m")
 
     def contains(self, palm_world: Array) -> bool:
         """True if a palm position [m, world] is within reach."""

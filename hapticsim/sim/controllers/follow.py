@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array, finite_float
+from hapticsim._validate import finite_array, finite_float, positive_fields
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim._vec import cross, dot, norm
 from hapticsim.sim.contacts import ContactState
@@ -70,10 +70,10 @@ class FollowConfig:
     max_time: float = 4.0
 
     def __post_init__(self) -> None:
-        for name in ("force", "lead", "gain", "max_depth", "spacing", "pivot_rate", "max_pivot",
-                     "stall_time", "max_time"):  # fmt: skip
-            if finite_float(getattr(self, name), name) <= 0:
-                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+        positive_fields(
+            self,
+            "force lead gain max_depth spacing pivot_rate max_pivot stall_time max_time".split(),
+        )
         lo, hi = (finite_float(v, "band") for v in self.band)
         if not 0 <= lo < hi:
             raise InvalidInputError(

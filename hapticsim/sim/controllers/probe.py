@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array, finite_float
+from hapticsim._validate import finite_array, positive_fields
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim.contacts import ContactState
 from hapticsim.sim.controllers.base import FingerTask
@@ -84,9 +84,7 @@ class ProbeConfig:
         return 1.5 * (self.standoff + self.max_travel) / self.speed + 0.1
 
     def __post_init__(self) -> None:
-        for name in self.__dataclass_fields__:
-            if finite_float(getattr(self, name), name) <= 0:
-                raise InvalidInputError(f"`{name}` must be > 0, got {getattr(self, name)!r}")
+        positive_fields(self, list(self.__dataclass_fields__))
 
 
 class ProbeTask(FingerTask):
