@@ -51,8 +51,26 @@ def _check_omega(values: Sequence[float], name: str) -> None:
         )
 
 
+class _Pattern:
+    """What stripes and patches share: rendering their directions on a superquadric."""
+
+    def angles(self, rng: np.random.Generator | int | None = None) -> tuple[Array, Array]:
+        raise NotImplementedError
+
+    def sample(
+        self, sq: Superquadric, rng: np.random.Generator | int | None = None
+    ) -> tuple[Array, Array]:
+        """Contact points and outward unit normals of the pattern on `sq` (paper eq. 6).
+
+        Returns:
+            points_world (count, 3) [m] and normals_world (count, 3).
+        """
+        sq = superquadric_arg(sq, "sq")
+        return sq.surface(*self.angles(rng), "uniform")
+
+
 @dataclass(frozen=True)
-class Stripe:
+class Stripe(_Pattern):
     """A stripe: ``count`` equidistant directions on a line in (eta, omega) space (paper III-A).
 
     Attributes:
@@ -85,20 +103,9 @@ class Stripe:
         omega = self.start[1] + s * (self.end[1] - self.start[1])
         return eta, omega
 
-    def sample(
-        self, sq: Superquadric, rng: np.random.Generator | int | None = None
-    ) -> tuple[Array, Array]:
-        """Contact points and outward unit normals of the stripe on `sq` (paper eq. 6).
-
-        Returns:
-            points_world (count, 3) [m] and normals_world (count, 3).
-        """
-        sq = superquadric_arg(sq, "sq")
-        return sq.surface(*self.angles(rng), "uniform")
-
 
 @dataclass(frozen=True)
-class Patch:
+class Patch(_Pattern):
     """A randomised patch: ``count`` directions uniform in an (eta, omega) rectangle (paper III-A).
 
     Attributes:
@@ -135,17 +142,6 @@ class Patch:
         eta = gen.uniform(self.eta[0], self.eta[1], self.count)
         omega = gen.uniform(self.omega[0], self.omega[1], self.count)
         return eta, omega
-
-    def sample(
-        self, sq: Superquadric, rng: np.random.Generator | int | None = None
-    ) -> tuple[Array, Array]:
-        """Contact points and outward unit normals of the patch on `sq` (paper eq. 6).
-
-        Returns:
-            points_world (count, 3) [m] and normals_world (count, 3).
-        """
-        sq = superquadric_arg(sq, "sq")
-        return sq.surface(*self.angles(rng), "uniform")
 
 
 Pattern = Stripe | Patch
