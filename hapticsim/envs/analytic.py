@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.data.noise import add_noise
-from hapticsim.envs.support import SUPPORTS, Support
+from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
@@ -197,7 +197,7 @@ def _boundary(
     return reach - np.nan_to_num(s, nan=reach)
 
 
-class AnalyticBackend:
+class AnalyticBackend(SupportedBackend):
     """Touches on the analytic ground truth (see the module docstring).
 
     Args:
@@ -254,16 +254,6 @@ class AnalyticBackend:
         self._clock = 0.0
         self._support = Support.under(shape, self.support_kind)
         return shape
-
-    @property
-    def support(self) -> Support:
-        """The object's support in this episode."""
-        if self._support is None:
-            raise InvalidInputError("call `reset` first")
-        return self._support
-
-    def _reachable(self, point: Array) -> bool:
-        return not self.support.blocks(point)
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one probe or stroke aimed at `origin` (3,) [m, world].

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_float
 from hapticsim.data.noise import add_noise
 from hapticsim.envs.analytic import raycast, section_walk, stroke_plane
-from hapticsim.envs.support import Support
+from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
@@ -53,7 +53,7 @@ MIN_STROKE: float = 0.006
 FOLLOW_LEAD: float = 0.004
 
 
-class MujocoBackend:
+class MujocoBackend(SupportedBackend):
     """Touches executed by the MuJoCo hand (see the module docstring).
 
     Args:
@@ -119,16 +119,6 @@ class MujocoBackend:
         self._truth = shape
         self._rng = rng
         return shape
-
-    @property
-    def support(self) -> Support:
-        """The stand holding the object in this episode."""
-        if self._support is None:
-            raise InvalidInputError("call `reset` first")
-        return self._support
-
-    def _reachable(self, point: Array) -> bool:
-        return not self.support.blocks(point)
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one probe or stroke aimed at `origin` (3,) [m, world] with the hand.

@@ -72,3 +72,22 @@ class Support:
         if self.kind == "table":
             return True
         return bool(np.linalg.norm(p[:2] - self.foot[:2]) < self.radius + self.clearance)
+
+
+class SupportedBackend:
+    """Base of the touch backends: the support holding the object in the current episode.
+
+    A backend sets ``self._support`` in ``reset``; touches that would hit it are unreachable.
+    """
+
+    _support: Support | None = None
+
+    @property
+    def support(self) -> Support:
+        """The object's support in this episode."""
+        if self._support is None:
+            raise InvalidInputError("call `reset` first")
+        return self._support
+
+    def _reachable(self, point: NDArray[np.float64]) -> bool:
+        return not self.support.blocks(point)
