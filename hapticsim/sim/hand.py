@@ -109,7 +109,6 @@ class Hand:
             raise InvalidInputError(f"body {PALM_MOCAP_BODY!r} is not a mocap body")
         palm_joint = int(model.body_jntadr[self.palm_body_id])
         self.palm_qpos_adr = int(model.jnt_qposadr[palm_joint])
-        self.palm_dof_adr = int(model.jnt_dofadr[palm_joint])
         fingers = []
         for k, name in enumerate(FINGER_NAMES):
             joints = [_id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{name}_{s}") for s in JOINT_SUFFIXES]
@@ -139,16 +138,9 @@ class Hand:
             [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in hand_bodies],
             dtype=np.int64,
         )
-        #: (ngeom,) int, finger index of each geom, -1 for the palm and non-hand geoms.
-        self.geom_finger = np.full(model.ngeom, -1, dtype=np.int64)
-        #: (ngeom,) bool, True for fingertip spheres.
-        self.geom_is_tip = np.zeros(model.ngeom, dtype=bool)
         #: (ngeom,) bool, True for every geom of the hand.
         self.geom_is_hand = np.zeros(model.ngeom, dtype=bool)
         self.geom_is_hand[self.hand_geom_ids] = True
-        for f in fingers:
-            self.geom_finger[f.geom_ids] = f.index
-            self.geom_is_tip[f.tip_geom_id] = True
         #: finger index by fingertip-sphere geom id (the control loop's contact scan).
         self.tip_finger_of_geom: dict[int, int] = {int(f.tip_geom_id): f.index for f in fingers}
         #: ids of every geom of the hand, as a set of ints.
