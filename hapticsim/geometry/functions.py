@@ -243,22 +243,6 @@ def divide_or_zero(numerator: Array, coordinate: Array, out: Array, check: bool 
     return out
 
 
-def gradient_sym(points_sym: Array, a: Array, eps: Array) -> Array:
-    """Direction of the gradient of F at untapered points, up to a positive factor per point.
-
-    F is homogeneous along rays, so the direction equals the outward surface normal at the
-    radial projection of the point (paper eq. 3 for points on the surface). Returned vectors are
-    ``grad F / ((2/eps1) F)`` (see :func:`gradient_shares`), not unit length.
-
-    Returns:
-        (..., n, 3) float.
-    """
-    p = np.asarray(points_sym, dtype=np.float64)
-    lu, lv, lw = _scaled_logs(p, a)
-    h = gradient_shares(log_inside_outside_terms(lu, lv, lw, _p(eps, 0), _p(eps, 1)))
-    return np.stack([divide_or_zero(h[i], p[..., i], h[i]) for i in range(3)], -1)
-
-
 def normals_body(points_body: Array, a: Array, eps: Array, taper: Array) -> Array:
     """Outward unit normals, in the body frame, of the tapered superquadric (paper eqs. 3-4).
 
