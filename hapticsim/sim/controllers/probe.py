@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array, positive_fields
 from hapticsim.errors import InvalidInputError
+from hapticsim.sim._vec import norm
 from hapticsim.sim.contacts import ContactState
 from hapticsim.sim.controllers.base import FingerTask
 from hapticsim.sim.hand import TIP_RADIUS
@@ -158,7 +159,7 @@ class ProbeTask(FingerTask):
         contact = contacts.tips[f]
         elapsed = sim.time - self._t0
         if self._state == "move":
-            if np.linalg.norm(tip - self._target) < cfg.reach_tol:
+            if norm(tip - self._target) < cfg.reach_tol:
                 self._state, self._t0 = "approach", sim.time
             elif contact is not None and contact.force > 0:
                 self._state, self._t0 = "approach", sim.time  # touched early: treat as approach
