@@ -60,14 +60,9 @@ class Contacts:
 
 
 def _atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> Path:
-    path = Path(path)
-    if path.exists() and path.is_dir():
-        raise InvalidInputError(f"cannot write {path}: it is a directory")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise InvalidInputError(f"cannot write {path}: directory {parent} does not exist")
+    path = check_output_path(path)
     try:
-        fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     except OSError as exc:
         raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
     try:
