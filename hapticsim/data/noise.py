@@ -12,7 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_float, normals_array, points_array
+from hapticsim._validate import as_generator, finite_float
+from hapticsim.data.io import as_points_normals
 from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
@@ -41,8 +42,7 @@ def add_noise(
     Returns:
         points (n, 3) [m] and unit normals (n, 3) (None if `normals` is None), new arrays.
     """
-    pts = points_array(points, "points")
-    nrm = None if normals is None else normals_array(normals, len(pts))
+    pts, nrm = as_points_normals(points, normals, min_count=0)
     sigma = finite_float(noise, "noise", low=0.0)
     length = finite_float(scale, "scale", low=0.0)
     if length <= 0.0:
