@@ -108,6 +108,7 @@ def _explore(
         write_bytes_atomic,
     )
     from hapticsim.fitting import fit
+    from hapticsim.fitting.methods import uses_normals
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
@@ -146,7 +147,7 @@ def _explore(
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
-        th = theta(result.superquadric, truth, points, normals if method.startswith("n") else None)
+        th = theta(result.superquadric, truth, points, normals if uses_normals(method) else None)
         report = exploration_figure_png(
             truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
             f"{object_name}, {strategy} exploration ({run.count} contacts, sigma_N = {sigma}), "
