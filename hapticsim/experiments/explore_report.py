@@ -105,20 +105,10 @@ def png_bytes(image: NDArray[np.uint8]) -> bytes:
 
 
 def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
-    """Write bytes through a temporary sibling file and a rename."""
-    import os
-    import tempfile
+    """Write bytes through a temporary sibling file and a rename (``hapticsim.data.io``'s)."""
+    from hapticsim.data.io import _atomic_write
 
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return _atomic_write(path, lambda fh: fh.write(data), "wb")
 
 
 __all__ = ["exploration_figure_png", "png_bytes", "write_bytes_atomic"]
