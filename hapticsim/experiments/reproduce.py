@@ -19,7 +19,7 @@ from hapticsim.experiments.claims import check_claims
 from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
 from hapticsim.experiments.fig5 import Fig5Config, collect_fig5, write_fig5
 from hapticsim.experiments.parallel import parallel_map, resolve_workers
-from hapticsim.experiments.trial import run_trial
+from hapticsim.experiments.trial import METRICS, run_trial
 
 WHICH: tuple[str, ...] = ("fig4", "fig5", "all")
 
@@ -141,9 +141,8 @@ def _cpu_seconds() -> float:
 
 
 def _fig4_means(fig4: Fig4Result) -> list[dict[str, Any]]:
-    keys = ("theta", "alpha", "beta", "epsilon", "iou", "chamfer", "seconds")
     return [
-        {"body": r["body"], "method": r["method"], **{k: r[f"{k}_mean"] for k in keys}}
+        {"body": r["body"], "method": r["method"], **{k: r[f"{k}_mean"] for k in METRICS}}
         for r in fig4.summary()
     ]
 
