@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim._validate import finite_float
+from hapticsim._validate import finite_float, positive_int
 from hapticsim.errors import InvalidInputError
 
 # headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
@@ -34,12 +34,6 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 #: Default number of contacts (paper IV).
 DEFAULT_CONTACTS: int = 150
-
-
-def _check_seed(seed: Any) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InvalidInputError(f"`seed` must be a non-negative integer, got {seed!r}")
-    return int(seed)
 
 
 def explore(
@@ -86,7 +80,7 @@ def explore(
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     sigma = finite_float(noise, "noise", low=0.0)
-    seed = _check_seed(seed)
+    seed = positive_int(seed, "seed", minimum=0)
     default = Path("runs") / f"{object_name}-{strategy}-seed{seed}"
     out = Path(out_dir) if out_dir is not None else default
     if out.exists() and not out.is_dir():
