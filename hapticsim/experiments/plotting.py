@@ -42,10 +42,10 @@ def _pyplot():  # noqa: ANN202 - the pyplot module
 def _save(fig: Any, path: str | Path, dpi: int) -> Path:
     """Save as a 256-colour PNG (small files for the repository), atomically."""
     import io
-    import os
-    import tempfile
 
     from PIL import Image
+
+    from hapticsim.data.io import _atomic_write
 
     buf = io.BytesIO()
     fig.savefig(buf, dpi=dpi, format="png")
@@ -53,14 +53,7 @@ def _save(fig: Any, path: str | Path, dpi: int) -> Path:
     image = Image.open(buf).convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".png")
-    os.close(fd)
-    try:
-        image.save(tmp, format="PNG", optimize=True)
-        os.replace(tmp, path)
-    finally:
-        Path(tmp).unlink(missing_ok=True)
-    return path
+    return _atomic_write(path, lambda fh: image.save(fh, format="PNG", optimize=True), "wb")
 
 
 def _add_surface(ax: Any, sq: Superquadric, color: str, alpha: float) -> None:
