@@ -27,7 +27,9 @@ def _imports(path: Path) -> set[str]:
 
 @pytest.mark.parametrize("package", CORE)
 def test_core_sources_import_nothing_above_them(package: str) -> None:
-    for path in sorted((REPO / "hapticsim" / package).glob("*.py")):
+    paths = sorted((REPO / "hapticsim" / package).glob("*.py"))
+    assert paths, f"no sources found for hapticsim.{package}"  # else the loop checks nothing
+    for path in paths:
         bad = {n for n in _imports(path) if any(n == f or n.startswith(f + ".") for f in FORBIDDEN)}
         assert not bad, f"{path.relative_to(REPO)} imports {sorted(bad)}"
 
