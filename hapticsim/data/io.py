@@ -59,7 +59,11 @@ class Contacts:
         return int(self.points.shape[0])
 
 
-def _atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> Path:
+def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> Path:
+    """Call ``write(file)`` on a temporary sibling of `path` opened in `mode`, then rename it.
+
+    A failure leaves no file (and no temporary) behind; errors become InvalidInputError.
+    """
     path = check_output_path(path)
     try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -108,7 +112,7 @@ def check_output_path(path: str | Path, suffixes: tuple[str, ...] | None = None)
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """Write `text` to `path` via a temporary file and rename."""
-    return _atomic_write(path, lambda fh: fh.write(text), "w")
+    return atomic_write(path, lambda fh: fh.write(text), "w")
 
 
 def write_json(path: str | Path, data: Any) -> Path:
@@ -207,7 +211,7 @@ def write_contacts(path: str | Path, contacts: Contacts) -> Path:
         if contacts.normals is not None:
             arrays["normals"] = contacts.normals
         arrays.update(contacts.extra or {})
-        return _atomic_write(path, lambda fh: np.savez(fh, **arrays), "wb")
+        return atomic_write(path, lambda fh: np.savez(fh, **arrays), "wb")
     if suffix == ".csv":
         cols = [contacts.points] + ([contacts.normals] if contacts.normals is not None else [])
         header = "x,y,z" + (",nx,ny,nz" if contacts.normals is not None else "")
@@ -230,6 +234,7 @@ def as_points_normals(
 
 __all__ = [
     "Contacts",
+    "atomic_write",
     "as_points_normals",
     "check_output_path",
     "finite_array",

@@ -106,9 +106,9 @@ def png_bytes(image: NDArray[np.uint8]) -> bytes:
 
 def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
     """Write bytes through a temporary sibling file and a rename (``hapticsim.data.io``'s)."""
-    from hapticsim.data.io import _atomic_write
+    from hapticsim.data.io import atomic_write
 
-    return _atomic_write(path, lambda fh: fh.write(data), "wb")
+    return atomic_write(path, lambda fh: fh.write(data), "wb")
 
 
 __all__ = ["exploration_figure_png", "png_bytes", "write_bytes_atomic"]

@@ -45,7 +45,7 @@ def _save(fig: Any, path: str | Path, dpi: int) -> Path:
 
     from PIL import Image
 
-    from hapticsim.data.io import _atomic_write
+    from hapticsim.data.io import atomic_write
 
     buf = io.BytesIO()
     fig.savefig(buf, dpi=dpi, format="png")
@@ -53,7 +53,7 @@ def _save(fig: Any, path: str | Path, dpi: int) -> Path:
     image = Image.open(buf).convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    return _atomic_write(path, lambda fh: image.save(fh, format="PNG", optimize=True), "wb")
+    return atomic_write(path, lambda fh: image.save(fh, format="PNG", optimize=True), "wb")
 
 
 def _add_surface(ax: Any, sq: Superquadric, color: str, alpha: float) -> None:
