@@ -110,15 +110,6 @@ def as_generator(rng: Any, name: str = "rng") -> np.random.Generator:
     return np.random.default_rng(int(rng))
 
 
-def superquadric_arg(value: Any, name: str) -> Any:
-    """`value` if it is a :class:`~hapticsim.geometry.Superquadric`, else InvalidInputError."""
-    from hapticsim.geometry.superquadric import Superquadric
-
-    if not isinstance(value, Superquadric):
-        raise InvalidInputError(f"`{name}` must be a Superquadric, got {type(value).__name__}")
-    return value
-
-
 def positive_fields(obj: Any, names: tuple[str, ...] | list[str], unit: str = "") -> None:
     """Check that each named attribute of `obj` (a config dataclass) is a finite float > 0.
 

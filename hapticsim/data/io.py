@@ -7,10 +7,6 @@ a temporary sibling and renamed, so a failure never leaves a half-written file.
 
 from __future__ import annotations
 
-import json
-import os
-import tempfile
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,6 +14,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim._files import (
+    atomic_write,
+    check_output_path,
+    read_json,
+    read_text,
+    write_json,
+    write_text_atomic,
+)
 from hapticsim._validate import finite_array, normals_array, points_array
 from hapticsim.errors import InvalidInputError
 
@@ -57,87 +61,6 @@ class Contacts:
 
     def __len__(self) -> int:
         return int(self.points.shape[0])
-
-
-def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> Path:
-    """Call ``write(file)`` on a temporary sibling of `path` opened in `mode`, then rename it.
-
-    A failure leaves no file (and no temporary) behind; errors become InvalidInputError.
-    """
-    path = check_output_path(path)
-    try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    except OSError as exc:
-        raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    try:
-        with os.fdopen(fd, mode) as fh:
-            write(fh)
-        os.replace(tmp, path)
-    except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
-        raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-def _read_text(path: Path) -> str:
-    """The text of a file; unreadable or non-UTF-8 files raise InvalidInputError."""
-    try:
-        return path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise InvalidInputError(f"{path} is not a UTF-8 text file ({exc.reason})") from exc
-    except OSError as exc:
-        raise InvalidInputError(f"cannot read {path}: {exc.strerror or exc}") from exc
-
-
-def check_output_path(path: str | Path, suffixes: tuple[str, ...] | None = None) -> Path:
-    """Check, before any work is done, that `path` can be written: its directory exists, it is
-    not a directory, and it ends in one of `suffixes` (any suffix when None).
-
-    Raises:
-        InvalidInputError: naming the path and the problem.
-    """
-    path = Path(path)
-    if suffixes is not None and path.suffix.lower() not in suffixes:
-        raise InvalidInputError(f"output file must end in one of {suffixes}, got {path.name!r}")
-    if path.is_dir():
-        raise InvalidInputError(f"cannot write {path}: it is a directory")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise InvalidInputError(f"cannot write {path}: directory {parent} does not exist")
-    return path
-
-
-def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write `text` to `path` via a temporary file and rename."""
-    return atomic_write(path, lambda fh: fh.write(text), "w")
-
-
-def write_json(path: str | Path, data: Any) -> Path:
-    """Write `data` as indented JSON (atomic)."""
-    return write_text_atomic(path, json.dumps(data, indent=2) + "\n")
-
-
-def read_json(path_or_text: str | Path) -> Any:
-    """Parse JSON from a file path, or from a string that starts with ``{`` or ``[``."""
-    text: str
-    if isinstance(path_or_text, str) and path_or_text.lstrip()[:1] in ("{", "["):
-        text, where = path_or_text, "JSON text"
-    else:
-        path = Path(path_or_text)
-        if not path.is_file():
-            raise InvalidInputError(f"file not found: {path}")
-        text, where = _read_text(path), str(path)
-    if not text.strip():
-        raise InvalidInputError(f"{where} is empty")
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InvalidInputError(
-            f"{where} is not valid JSON: {exc.msg} at line {exc.lineno}"
-        ) from exc
 
 
 def read_contacts(path: str | Path) -> Contacts:
@@ -181,7 +104,7 @@ def _read_npz(path: Path) -> Contacts:
 
 
 def _read_csv(path: Path) -> Contacts:
-    lines = _read_text(path).splitlines()
+    lines = read_text(path).splitlines()
     if not lines:
         raise InvalidInputError(f"contacts file is empty: {path}")
     header = [h.strip().lower() for h in lines[0].split(",")]

@@ -21,9 +21,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_array, positive_int, superquadric_arg
+from hapticsim._validate import as_generator, finite_array, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
 

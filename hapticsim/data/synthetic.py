@@ -32,12 +32,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_float, positive_int, superquadric_arg
+from hapticsim._validate import as_generator, finite_float, positive_int
 from hapticsim.data.io import Contacts
 from hapticsim.data.noise import add_noise
 from hapticsim.data.patterns import Patch, Pattern, Stripe, render
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
 

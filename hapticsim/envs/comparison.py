@@ -167,7 +167,7 @@ def compare_policies(
     """
     from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
     from hapticsim.envs.policies import POLICY_NAMES
-    from hapticsim.experiments.parallel import parallel_map
+    from hapticsim.parallel import parallel_map
 
     unknown = [p for p in policies if p not in POLICY_NAMES]
     if unknown:

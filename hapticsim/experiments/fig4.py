@@ -16,11 +16,11 @@ from typing import Any
 from hapticsim._validate import positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
-from hapticsim.experiments.parallel import parallel_map
 from hapticsim.experiments.stats import summarize
 from hapticsim.experiments.tables import markdown_table, mean_spread, write_csv
 from hapticsim.experiments.trial import METRICS, Trial, TrialResult, make_trial, run_trial
 from hapticsim.geometry import Superquadric
+from hapticsim.parallel import parallel_map
 
 #: Columns of the Markdown table: (metric, header).
 TABLE_COLUMNS: tuple[tuple[str, str], ...] = (

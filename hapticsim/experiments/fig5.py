@@ -19,10 +19,10 @@ from typing import Any
 from hapticsim._validate import positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
-from hapticsim.experiments.parallel import parallel_map
 from hapticsim.experiments.stats import summarize
 from hapticsim.experiments.tables import write_csv
 from hapticsim.experiments.trial import METRICS, Trial, TrialResult, make_trial, run_trial
+from hapticsim.parallel import parallel_map
 
 #: Budgets of the n sweep as fractions of ``DEFAULT_BUDGET`` (geometric grid, factor 2). The
 #: small budgets are cheap and show where each method converges; the largest is Fig. 4's.

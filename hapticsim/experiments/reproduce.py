@@ -18,8 +18,8 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.experiments.claims import check_claims
 from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
 from hapticsim.experiments.fig5 import Fig5Config, collect_fig5, write_fig5
-from hapticsim.experiments.parallel import parallel_map, resolve_workers
 from hapticsim.experiments.trial import METRICS, run_trial
+from hapticsim.parallel import parallel_map, resolve_workers
 
 WHICH: tuple[str, ...] = ("fig4", "fig5", "all")
 

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.errors import InvalidInputError
-from hapticsim.experiments.parallel import seed_sequence
+from hapticsim.parallel import seed_sequence
 
 Array = NDArray[np.float64]
 

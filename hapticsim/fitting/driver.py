@@ -14,7 +14,6 @@ from hapticsim._validate import (
     normals_array,
     points_array,
     positive_int,
-    superquadric_arg,
 )
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.errors import InvalidInputError
@@ -25,7 +24,7 @@ from hapticsim.fitting.methods import DEFAULT_BUDGET, HYBRID_METHODS, METHODS, u
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult
 from hapticsim.geometry.eof import DISTANCES
-from hapticsim.geometry.superquadric import N_PARAMS, Superquadric
+from hapticsim.geometry.superquadric import N_PARAMS, Superquadric, superquadric_arg
 
 Array = NDArray[np.float64]
 

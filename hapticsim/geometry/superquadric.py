@@ -177,7 +177,7 @@ class Superquadric:
         """The JSON text; also written to `path` when given."""
         text = json.dumps(self.to_dict(), indent=2)
         if path is not None:
-            from hapticsim.data.io import write_text_atomic
+            from hapticsim._files import write_text_atomic
 
             write_text_atomic(path, text + "\n")
         return text
@@ -185,7 +185,7 @@ class Superquadric:
     @classmethod
     def from_json(cls, path_or_text: str | Path) -> Superquadric:
         """Read a superquadric (or a fit result) from a JSON file path or a JSON string."""
-        from hapticsim.data.io import read_json
+        from hapticsim._files import read_json
 
         return cls.from_dict(read_json(path_or_text))
 
@@ -312,3 +312,10 @@ class Superquadric:
         from hapticsim.geometry.mesh import superquadric_mesh
 
         return superquadric_mesh(self, resolution=resolution, parametrization=parametrization)
+
+
+def superquadric_arg(value: Any, name: str) -> Superquadric:
+    """`value` if it is a :class:`Superquadric`, else InvalidInputError naming `name`."""
+    if not isinstance(value, Superquadric):
+        raise InvalidInputError(f"`{name}` must be a Superquadric, got {type(value).__name__}")
+    return value

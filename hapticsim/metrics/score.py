@@ -7,9 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim._validate import as_generator, positive_int, superquadric_arg
+from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer
 from hapticsim.metrics.volume import DEFAULT_VOLUME_SAMPLES, volume_overlap
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from hapticsim._validate import finite_float, normals_array, points_array, superquadric_arg
+from hapticsim._validate import finite_float, normals_array, points_array
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.eof import error_of_fit
+from hapticsim.geometry.superquadric import superquadric_arg
 
 
 def _eof(sq: Superquadric, points: Any, normals: Any, lam: float) -> float:

@@ -20,10 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, positive_int, superquadric_arg
+from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry import functions as fn
+from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
 

@@ -8,8 +8,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import normals_array, points_array, superquadric_arg
+from hapticsim._validate import normals_array, points_array
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
 

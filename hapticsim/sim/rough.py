@@ -11,9 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_float, superquadric_arg
+from hapticsim._validate import as_generator, finite_float
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
 

@@ -16,9 +16,10 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_float, positive_int, superquadric_arg
+from hapticsim._validate import finite_float, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 from hapticsim.sim.hand import Hand
 from hapticsim.sim.models import model_path
 from hapticsim.sim.object_mesh import object_vertices

@@ -14,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim._validate import as_generator, positive_int, superquadric_arg
+from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.superquadric import superquadric_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject, vision_estimate

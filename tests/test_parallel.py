@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.experiments.parallel import parallel_map, resolve_workers, seed_sequence
+from hapticsim.parallel import parallel_map, resolve_workers, seed_sequence
 
 
 def _draw(key: int) -> tuple[int, float, str | None]:

@@ -1,0 +1,89 @@
+"""Every package imports only the layers below it (STYLE.md: dependencies point down).
+
+The table is the layout of STYLE.md; the root modules (``errors``, ``constants``, ``_validate``,
+``_files``, ``parallel``) sit below ``geometry`` and import no package of hapticsim. Lazy imports
+inside functions count too: an upward import anywhere makes a circle.
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+PACKAGE = REPO / "hapticsim"
+ROOT = {"errors", "constants", "_validate", "_files", "parallel"}
+#: Package -> the hapticsim packages it may import (besides the root modules).
+ALLOWED: dict[str, set[str]] = {
+    "geometry": set(),
+    "data": {"geometry"},
+    "metrics": {"geometry"},
+    "fitting": {"geometry"},
+    "sim": {"geometry", "data"},
+    "envs": {"geometry", "data", "metrics", "fitting", "sim"},
+    "experiments": {"geometry", "data", "metrics", "fitting", "sim", "envs"},
+}
+
+
+#: Packages below ``sim`` that must never import the simulator or the environment API.
+CORE = ("geometry", "data", "metrics", "fitting")
+CORE_FORBIDDEN = {"mujoco", "gymnasium"}
+
+
+def _imports(path: Path) -> set[str]:
+    """Absolute module names imported anywhere in `path`."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.add(node.module)
+    return names
+
+
+def _hapticsim_imports(path: Path) -> set[str]:
+    """Top-level hapticsim modules/packages imported anywhere in `path`."""
+    return {m.split(".")[1] for m in _imports(path) if m.startswith("hapticsim.")}
+
+
+@pytest.mark.parametrize("package", sorted(ALLOWED))
+def test_package_imports_only_layers_below(package: str) -> None:
+    paths = sorted((PACKAGE / package).rglob("*.py"))
+    assert paths, f"no sources found for hapticsim.{package}"  # else the loop checks nothing
+    allowed = ALLOWED[package] | ROOT | {package}
+    for path in paths:
+        bad = _hapticsim_imports(path) - allowed
+        assert not bad, f"{path.relative_to(REPO)} imports hapticsim.{sorted(bad)}"
+
+
+@pytest.mark.parametrize("module", sorted(ROOT))
+def test_root_modules_import_no_package(module: str) -> None:
+    bad = _hapticsim_imports(PACKAGE / f"{module}.py") - ROOT
+    assert not bad, f"hapticsim/{module}.py imports hapticsim.{sorted(bad)}"
+
+
+def test_every_package_is_in_the_table() -> None:
+    packages = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").is_file()}
+    assert packages <= set(ALLOWED), f"add {sorted(packages - set(ALLOWED))} to ALLOWED"
+
+
+@pytest.mark.parametrize("package", CORE)
+def test_core_never_imports_the_simulator(package: str) -> None:
+    for path in sorted((PACKAGE / package).rglob("*.py")):
+        bad = {n for n in _imports(path) if n.split(".")[0] in CORE_FORBIDDEN}
+        assert not bad, f"{path.relative_to(REPO)} imports {sorted(bad)}"
+
+
+@pytest.mark.parametrize("package", CORE)
+def test_importing_the_core_does_not_load_mujoco(package: str) -> None:
+    code = f"import sys, hapticsim.{package}; sys.exit(1 if 'mujoco' in sys.modules else 0)"
+    env = os.environ | {"PYTHONPATH": str(REPO)}
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert proc.returncode == 0, f"hapticsim.{package} loads mujoco: {proc.stderr[-500:]}"
