@@ -18,13 +18,55 @@ def _shape_str(shape: tuple[int, ...]) -> str:
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
+#: dtype kinds converted to float64: unsigned and signed integers, floats.
+_REAL_KINDS = "iuf"
+
+
 def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
-    """Convert `value` to a float64 array or raise naming `name`."""
+    """Convert `value` to a float64 array or raise naming `name`.
+
+    Integers and floats are converted; booleans, complex numbers (whose imaginary part a plain
+    cast would drop), strings, bytes, dates and records are refused. Sequences of Python
+    numbers (dtype object) are converted when every element is a real number.
+    """
     try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+        raw = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
         raise InvalidInputError(f"`{name}` must be numeric, got {type(value).__name__}") from exc
-    return arr
+    kind = raw.dtype.kind
+    if kind in "iu" and isinstance(value, (list, tuple)) and _contains_bool(value):
+        kind = "b"  # [1, True] is an int array to NumPy; a JSON `true` is not a number
+    if kind == "c":
+        raise InvalidInputError(f"`{name}` must be real, got complex values ({raw.dtype})")
+    if kind in _REAL_KINDS:
+        return raw.astype(np.float64, copy=False)
+    if kind == "O":
+        try:
+            values = [_real_scalar(v, name) for v in raw.ravel()]
+            return np.array(values, dtype=np.float64).reshape(raw.shape)
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise InvalidInputError(
+                f"`{name}` must be numeric, got {type(value).__name__} of {raw.dtype}"
+            ) from exc
+    what = "bool" if kind == "b" else str(raw.dtype)
+    raise InvalidInputError(f"`{name}` must be numeric, got {what} values")
+
+
+def _contains_bool(value: list[Any] | tuple[Any, ...]) -> bool:
+    """True when a nested list/tuple holds a bool anywhere."""
+    return any(
+        isinstance(v, (bool, np.bool_)) or (isinstance(v, (list, tuple)) and _contains_bool(v))
+        for v in value
+    )
+
+
+def _real_scalar(value: Any, name: str) -> float:
+    """One element of an object array as a float: real numbers only."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        raise TypeError(f"`{name}` element {value!r} is not a real number")
+    if isinstance(value, (complex, np.complexfloating)):
+        raise TypeError(f"`{name}` element {value!r} is complex")
+    return float(value)
 
 
 def finite_array(value: Any, name: str, shape: tuple[int | None, ...]) -> NDArray[np.float64]:
@@ -51,6 +93,36 @@ def points_array(value: Any, name: str = "points", min_count: int = 0) -> NDArra
     arr = finite_array(value, name, (None, 3))
     if arr.shape[0] < min_count:
         raise InvalidInputError(f"`{name}` must hold at least {min_count} rows, got {arr.shape[0]}")
+    return arr
+
+
+def physical_points(value: Any, name: str = "points", min_count: int = 0) -> NDArray[np.float64]:
+    """An (n, 3) finite float array of contact locations [m] within the physical range.
+
+    Coordinates must lie within +-:data:`~hapticsim.constants.MAX_COORDINATE` and the points
+    must span at least :data:`~hapticsim.constants.MIN_LENGTH` (the longest side of their
+    bounding box; points all at one location are left to the caller's message):
+    outside that, squares of coordinates overflow or bounds of the fit underflow, and no
+    touched object is that large or that small in metres.
+
+    Raises:
+        InvalidInputError: as :func:`points_array`, or coordinates out of range.
+    """
+    from hapticsim.constants import MAX_COORDINATE, MIN_LENGTH
+
+    arr = points_array(value, name, min_count)
+    if arr.size and float(np.abs(arr).max()) > MAX_COORDINATE:
+        raise InvalidInputError(
+            f"`{name}` must have coordinates within +-{MAX_COORDINATE:g} m, got "
+            f"{float(np.abs(arr).max()):.3g} (metres expected)"
+        )
+    if len(arr) >= 2:
+        extent = float(np.max(arr.max(axis=0) - arr.min(axis=0)))  # no squares: no underflow
+        if 0.0 < extent < MIN_LENGTH:
+            raise InvalidInputError(
+                f"`{name}` must span at least {MIN_LENGTH:g} m, got {extent:.3g} m "
+                "(metres expected)"
+            )
     return arr
 
 

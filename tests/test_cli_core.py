@@ -87,7 +87,7 @@ def test_synth_csv_and_json_body(capsys, tmp_path: Path) -> None:
 )
 def test_synth_bad_input(capsys, tmp_path: Path, monkeypatch, args: list, match: str) -> None:
     monkeypatch.chdir(tmp_path)
-    Path("bad.json").write_text('{"a": [0.01, 0.02, 0.03], "eps": [0.01, 1]}')
+    Path("bad.json").write_text(json.dumps(GOOD | {"eps": [0.01, 1]}))
     code, out, err = run(capsys, "synth", *args)
     assert_bad_input(code, out, err, "synth", match)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]  # nothing written
@@ -121,7 +121,13 @@ def test_score_prints_the_spec_json(capsys, tmp_path: Path) -> None:
     assert json.loads(same)["alpha"] == 0.0 and json.loads(same)["iou"] == 1.0
 
 
-GOOD = {"a": [0.03, 0.04, 0.05], "eps": [0.1, 0.1], "taper": [0, 0], "center": [0, 0, 0]}
+GOOD = {
+    "a": [0.03, 0.04, 0.05],
+    "eps": [0.1, 0.1],
+    "taper": [0, 0],
+    "rotation": [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+    "center": [0, 0, 0],
+}
 
 
 @pytest.mark.parametrize(
@@ -133,7 +139,8 @@ GOOD = {"a": [0.03, 0.04, 0.05], "eps": [0.1, 0.1], "taper": [0, 0], "center": [
         ("[1, 2]", "JSON object"),
         ('{"a": [0.03, 0.04, 0.05]}', "missing"),
         (json.dumps(GOOD | {"a": [0.03, -0.04, 0.05]}), "`a`"),
-        ('{"a": [NaN, 0.04, 0.05], "eps": [0.1, 0.1]}', "NaN"),
+        (json.dumps(GOOD).replace("0.03", "NaN"), "NaN"),
+        (json.dumps({k: v for k, v in GOOD.items() if k != "center"}), "required key(s) center"),
         (json.dumps(GOOD | {"a": [0.03, 0.04]}), "`a`"),
         (json.dumps(GOOD | {"eps": [0.1, 2.5]}), "`eps`"),
         (json.dumps(GOOD | {"taper": [1.5, 0.0]}), "`taper`"),
@@ -166,3 +173,21 @@ def test_console_process_reports_bad_input_without_traceback(tmp_path: Path) -> 
     assert proc.returncode == 2
     assert proc.stdout == ""
     assert len(proc.stderr.splitlines()) == 1 and "not found" in proc.stderr
+
+
+def test_huge_coordinates_end_in_one_line_not_a_linalg_error(tmp_path: Path) -> None:
+    # issue 14: contacts at 1e300 m ended in a LinAlgError traceback after overflow warnings
+    rng = np.random.default_rng(0)
+    np.savez(tmp_path / "c.npz", points=rng.normal(size=(50, 3)) * 1e300,
+             normals=rng.normal(size=(50, 3)))  # fmt: skip
+    env = os.environ | {"PYTHONPATH": str(REPO)}
+    proc = subprocess.run(
+        [sys.executable, "-m", "hapticsim.cli", "fit", "c.npz", "--out", "fit.json"],
+        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert (proc.returncode, proc.stdout) == (2, "")
+    assert proc.stderr.splitlines() == [
+        "hapticsim fit: error: `points` must have coordinates within +-1e+06 m, got 2.37e+300 "
+        "(metres expected)"
+    ]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.npz"]

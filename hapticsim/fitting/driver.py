@@ -12,7 +12,7 @@ from hapticsim._validate import (
     as_generator,
     finite_float,
     normals_array,
-    points_array,
+    physical_points,
     positive_int,
 )
 from hapticsim.constants import DEFAULT_LAMBDA
@@ -82,7 +82,7 @@ def fit(
     """
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
-    pts = points_array(points, "points", min_count=N_PARAMS)
+    pts = physical_points(points, "points", min_count=N_PARAMS)
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:
         raise InvalidInputError(f"method {method} needs `normals`; use LS or H for points only")

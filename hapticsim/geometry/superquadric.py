@@ -20,7 +20,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array
-from hapticsim.constants import EPS_MAX, EPS_MIN, ROTATION_TOL, TAPER_MAX
+from hapticsim.constants import (
+    EPS_MAX,
+    EPS_MIN,
+    MAX_COORDINATE,
+    MIN_LENGTH,
+    ROTATION_TOL,
+    TAPER_MAX,
+)
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import functions as fn
 from hapticsim.geometry.parametrization import parametrize
@@ -46,6 +53,9 @@ SLICE_CENTER = slice(10, 13)
 PARAM_NAMES: tuple[str, ...] = (
     "a1", "a2", "a3", "eps1", "eps2", "tx", "ty", "rx", "ry", "rz", "x0", "y0", "z0",
 )  # fmt: skip
+
+#: Keys a superquadric JSON must have (SPEC §6); ``taper`` defaults to [0, 0].
+REQUIRED_KEYS: tuple[str, ...] = ("a", "eps", "rotation", "center")
 
 _EPS_SLACK = 1e-9
 #: Largest |R^T R - I| entry kept as is; SVD output and float round trips stay below ~1e-15.
@@ -151,7 +161,15 @@ class Superquadric:
     def from_dict(cls, data: Any) -> Superquadric:
         """Read the SPEC §6 layout; a fit result (with key ``superquadric``) is accepted too.
 
-        ``taper``, ``rotation`` and ``center`` default to none, identity and the origin.
+        ``a``, ``eps``, ``rotation`` and ``center`` are required (:data:`REQUIRED_KEYS`): a
+        missing shape or pose would silently become another solid. ``taper`` may be left out
+        and then is ``[0, 0]`` (untapered). Semi-axes must be at least
+        :data:`~hapticsim.constants.MIN_LENGTH` and semi-axes and centre at most
+        :data:`~hapticsim.constants.MAX_COORDINATE` [m].
+
+        Raises:
+            InvalidInputError: not a JSON object, a required key missing (named), an unknown
+                key, or a value out of its domain.
         """
         if isinstance(data, dict) and "superquadric" in data:
             data = data["superquadric"]
@@ -159,19 +177,31 @@ class Superquadric:
             raise InvalidInputError(
                 f"a superquadric must be a JSON object, got {type(data).__name__}"
             )
-        missing = [k for k in ("a", "eps") if k not in data]
+        missing = [k for k in REQUIRED_KEYS if k not in data]
         if missing:
-            raise InvalidInputError(f"superquadric is missing key(s) {missing}")
+            raise InvalidInputError(
+                f"superquadric is missing required key(s) {', '.join(missing)} (required: "
+                f"{', '.join(REQUIRED_KEYS)}; optional: taper)"
+            )
         unknown = sorted(set(data) - {"a", "eps", "taper", "rotation", "center"})
         if unknown:
             raise InvalidInputError(
                 f"superquadric has unknown key(s) {unknown}; valid keys are "
                 "a, eps, taper, rotation, center"
             )
-        return cls(
+        sq = cls(
             a=data["a"], eps=data["eps"], taper=data.get("taper", (0.0, 0.0)),
-            rotation=data.get("rotation", np.eye(3)), center=data.get("center", (0.0, 0.0, 0.0)),
+            rotation=data["rotation"], center=data["center"],
         )  # fmt: skip
+        if sq.a.min() < MIN_LENGTH or sq.a.max() > MAX_COORDINATE:
+            raise InvalidInputError(
+                f"`a` must lie in [{MIN_LENGTH:g}, {MAX_COORDINATE:g}] m, got {sq.a.tolist()}"
+            )
+        if np.abs(sq.center).max() > MAX_COORDINATE:
+            raise InvalidInputError(
+                f"`center` must lie within +-{MAX_COORDINATE:g} m, got {sq.center.tolist()}"
+            )
+        return sq
 
     def to_json(self, path: str | Path | None = None) -> str:
         """The JSON text; also written to `path` when given."""

@@ -89,6 +89,26 @@ def test_bad_contact_files_raise_one_clear_error(
         read_contacts(path)
 
 
+@pytest.mark.parametrize(
+    ("points", "match"),
+    [
+        (np.ones((4, 3)) + 1j, "must be real, got complex"),  # issue 14: was cast silently
+        (np.ones((4, 3), dtype=bool), "must be numeric, got bool"),
+        (np.full((4, 3), "1.0"), "must be numeric, got <U3"),
+        (np.zeros((4, 3), dtype="datetime64[s]"), "must be numeric"),
+    ],
+)
+def test_npz_arrays_of_the_wrong_dtype_are_refused(
+    tmp_path: Path, points: np.ndarray, match: str
+) -> None:
+    np.savez(tmp_path / "c.npz", points=points)
+    with pytest.raises(HapticsimError, match=match):
+        read_contacts(tmp_path / "c.npz")
+    np.savez(tmp_path / "n.npz", points=np.eye(4)[:, :3], normals=points)
+    with pytest.raises(HapticsimError, match=match.replace("`points`", "`normals`")):
+        read_contacts(tmp_path / "n.npz")
+
+
 def test_npz_content_errors(tmp_path: Path) -> None:
     np.savez(tmp_path / "nopoints.npz", normals=np.eye(3))
     with pytest.raises(HapticsimError, match="no `points`"):

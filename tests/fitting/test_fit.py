@@ -131,6 +131,12 @@ _GOOD = np.random.default_rng(1).normal(size=(20, 3))
         ({"points": _GOOD[:, :2]}, r"\(n, 3\)"),
         ({"points": np.outer(np.linspace(0, 1, 20), [1.0, 2.0, 3.0])}, "one line"),
         ({"points": np.ones((20, 3))}, "one location"),
+        # issue 14: 1e300 m ended in a LinAlgError, 1e-300 m in scipy's bounds ValueError
+        ({"points": _GOOD * 1e300}, r"within \+-1e\+06 m"),
+        ({"points": _GOOD * 1e-300}, "span at least 1e-09 m"),
+        ({"points": _GOOD + 1j}, "must be real"),
+        ({"points": _GOOD > 0}, "must be numeric, got bool"),
+        ({"points": _GOOD.astype(str)}, "must be numeric"),
         ({"normals": _GOOD[:19]}, "one row per point"),
         ({"normals": np.where(np.arange(20)[:, None] == 3, 0.0, _GOOD)}, "zero length"),
         ({"normals": None, "method": "nH"}, "needs `normals`"),

@@ -52,8 +52,8 @@ def test_json_files_and_fit_results(tmp_path: Path) -> None:
     fit = {"superquadric": sq.to_dict(), "method": "nH", "eof": 1e-6, "evaluations": 10}
     (tmp_path / "fit.json").write_text(json.dumps(fit))
     assert Superquadric.from_json(tmp_path / "fit.json") == sq
-    minimal = Superquadric.from_dict({"a": [0.01, 0.02, 0.03], "eps": [1, 1]})
-    assert np.array_equal(minimal.rotation, np.eye(3)) and np.all(minimal.taper == 0)
+    untapered = {k: v for k, v in sq.to_dict().items() if k != "taper"}
+    assert np.all(Superquadric.from_dict(untapered).taper == 0)  # the one optional key
     assert set(sq.to_dict()) == {"a", "eps", "taper", "rotation", "center"}
 
 
@@ -125,18 +125,34 @@ def test_bad_parameters_raise_naming_the_argument(kwargs: dict, name: str) -> No
         Superquadric(**args)
 
 
+_POSE = {"rotation": np.eye(3).tolist(), "center": [0.0, 0.0, 0.0]}
+
+
 @pytest.mark.parametrize(
     ("data", "match"),
     [
         ([1, 2, 3], "JSON object"),
-        ({"a": [1, 1, 1]}, "missing"),
-        ({"a": [1, 1, 1], "eps": [1, 1], "colour": "red"}, "unknown"),
+        ({"a": [1, 1, 1]}, "missing required key.s. eps, rotation, center"),
+        ({**_POSE, "a": [1, 1, 1], "eps": [1, 1], "colour": "red"}, "unknown"),
         ({"superquadric": 3}, "JSON object"),
-        ({"a": [1, 1, None], "eps": [1, 1]}, "`a`"),
+        ({**_POSE, "a": [1, 1, None], "eps": [1, 1]}, "`a`"),
+        ({**_POSE, "a": [1, 1, 1j], "eps": [1, 1]}, "`a`"),
+        ({**_POSE, "a": [1, 1, True], "eps": [1, 1]}, "`a` must be numeric"),
+        ({**_POSE, "a": [1, 1, 1e300], "eps": [1, 1]}, "`a` must lie in"),
+        ({**_POSE, "a": [1, 1, 1e-300], "eps": [1, 1]}, "`a` must lie in"),
+        ({**_POSE, "a": [1, 1, 1], "eps": [1, 1], "center": [0, 1e300, 0]}, "`center` must lie"),
     ],
 )
 def test_bad_dicts(data, match: str) -> None:
     with pytest.raises(HapticsimError, match=match):
+        Superquadric.from_dict(data)
+
+
+@pytest.mark.parametrize("key", ["a", "eps", "rotation", "center"])
+def test_a_missing_required_key_is_named(key: str) -> None:
+    data = Superquadric(a=(0.01, 0.02, 0.03), eps=(1.0, 1.0)).to_dict()
+    del data[key]
+    with pytest.raises(HapticsimError, match=f"missing required key.s. {key} "):
         Superquadric.from_dict(data)
 
 
