@@ -103,6 +103,11 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         progress=not args.quiet,
         count=args.count,
     )
+    if not summary["complete"]:
+        sys.stderr.write(
+            f"hapticsim explore: warning: gathered {summary['contacts']} of "
+            f"{summary['requested']} contacts: {summary['stop_reason']}\n"
+        )
     _print_json(summary)
     return 0
 

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import InvalidInputError, SimulationError
 
 # headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
 os.environ.setdefault("MUJOCO_GL", "egl")
@@ -62,7 +62,9 @@ def explore(
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
-        accuracy, simulation statistics and the fit's EOF and evaluations.
+        accuracy, simulation statistics and the fit's EOF and evaluations. ``complete`` is
+        False when fewer than `count` contacts were gathered; then ``stop_reason`` says why
+        (``requested`` is `count`).
 
     Raises:
         InvalidInputError: unknown object, strategy or method (the message lists the choices),
@@ -126,8 +128,15 @@ def _explore(
             picture["scene"] = png_bytes(render_scene(explorer.sim))
 
     try:
-        run = run_exploration(truth, strategy, count, sim_rng, progress=on_progress,
-                              on_pattern_end=on_pattern_end)  # fmt: skip
+        try:
+            run = run_exploration(truth, strategy, count, sim_rng, progress=on_progress,
+                                  on_pattern_end=on_pattern_end)  # fmt: skip
+        except SimulationError as exc:
+            raise SimulationError(
+                f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
+                f"reproduce: hapticsim explore --object {object_name} --strategy {strategy} "
+                f"--seed {seed} --count {count}]"
+            ) from exc
         if render and "scene" not in picture:
             from hapticsim.sim.render import render_scene
 
@@ -155,6 +164,7 @@ def _explore(
         "theta": float(th),
         "contact_accuracy": accuracy,
         "contacts": run.count,
+        **_completeness(run),
         "noise": sigma,
         "method": method,
         "strategy": strategy,
@@ -192,12 +202,19 @@ def _explore(
         "noise": sigma,
         "seed": seed,
         "contacts": run.count,
+        **_completeness(run),
         "metrics": quality.to_dict() | {"theta": float(th)},
         "contact_accuracy": accuracy,
         "fit": {"eof": result.eof, "evaluations": result.evaluations, "seconds": result.seconds},
         "simulation": sim_stats,
         "seconds": time.perf_counter() - start,
     }
+
+
+def _completeness(run: Any) -> dict[str, Any]:
+    """``complete``, ``requested`` and ``stop_reason`` of a run (SPEC §6: a run that gathers
+    fewer contacts than asked says so)."""
+    return {"complete": run.complete, "requested": run.requested, "stop_reason": run.stop_reason}
 
 
 __all__ = ["DEFAULT_CONTACTS", "explore"]

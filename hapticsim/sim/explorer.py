@@ -152,6 +152,18 @@ class Explorer:
         """True when the simulated-time budget is used up or too many probes in a row missed."""
         return self.sim.time > self.config.max_sim_time or self.misses >= self.config.max_misses
 
+    @property
+    def stop_reason(self) -> str | None:
+        """Why the exploration ended short of the recorder's capacity; None when it is full."""
+        if self.recorder.full:
+            return None
+        cfg = self.config
+        if self.sim.time > cfg.max_sim_time:
+            return f"the simulated-time budget of {cfg.max_sim_time:g} s was used up (max_sim_time)"
+        if self.misses >= cfg.max_misses:
+            return f"{self.misses} probes in a row met nothing (max_misses)"
+        return "the strategy ran out of patterns"
+
     def _go(
         self, position: Array, rotation: Array, settle: bool = False, transit: bool = False
     ) -> None:

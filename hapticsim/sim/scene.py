@@ -20,6 +20,7 @@ from hapticsim._validate import finite_float, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
 from hapticsim.sim.hand import Hand
 from hapticsim.sim.models import model_path
 from hapticsim.sim.object_mesh import object_vertices

@@ -45,6 +45,8 @@ class Exploration:
         steps: physics steps.
         wall_time: wall-clock time of the run, scene building included [s].
         explorer: the explorer (its simulator holds the final state).
+        requested: contacts asked for.
+        stop_reason: why fewer than `requested` were gathered (None when all were).
     """
 
     truth: Superquadric
@@ -56,11 +58,18 @@ class Exploration:
     steps: int
     wall_time: float
     explorer: Explorer = field(repr=False)
+    requested: int = 0
+    stop_reason: str | None = None
 
     @property
     def count(self) -> int:
         """Number of recorded contacts."""
         return int(len(self.arrays["finger"]))
+
+    @property
+    def complete(self) -> bool:
+        """True when as many contacts were gathered as asked for."""
+        return self.count >= self.requested
 
     @property
     def steps_per_second(self) -> float:
@@ -129,6 +138,8 @@ def run_exploration(
         steps=explorer.sim.steps,
         wall_time=wall,
         explorer=explorer,
+        requested=count,
+        stop_reason=explorer.stop_reason,
     )
 
 

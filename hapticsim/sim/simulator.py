@@ -26,6 +26,7 @@ from hapticsim.errors import SimulationError
 from hapticsim.sim._vec import norm
 from hapticsim.sim.contacts import ContactState, read_contacts
 from hapticsim.sim.dls import dls_step
+from hapticsim.sim.mujoco_log import take_last_warning
 from hapticsim.sim.scene import Scene
 
 Array = NDArray[np.float64]
@@ -278,10 +279,12 @@ class Simulator:
         d = self.data
         bad = self._warnings[self._bad_state].any()
         if bad or not math.isfinite(float(d.qacc.sum() + d.qpos.sum())):
+            said = take_last_warning() if bad else None
             raise SimulationError(
                 f"the simulation went unstable at t = {d.time:.4f} s (bad or non-finite "
-                "positions, velocities or accelerations, mjWARN_BADQACC/BADQVEL/BADQPOS); try a "
-                "smaller timestep or a gentler exploration"
+                "positions, velocities or accelerations, mjWARN_BADQACC/BADQVEL/BADQPOS"
+                + (f"; MuJoCo: {said}" if said else "")
+                + "); try a smaller timestep or a gentler exploration"
             )
 
     def tick(self, read: bool = True) -> ContactState | None:
