@@ -77,6 +77,11 @@ class MujocoBackend(SupportedBackend):
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-3, 0.05)
         self.size_sigma = finite_float(size_sigma, "size_sigma", 0.0, 0.29)
         self.scene_config = scene_config
+        from hapticsim.sim.scene import SceneCache
+
+        #: compiled scenes of the objects seen so far (a paper body comes back every few
+        #: episodes; its scene is compiled once).
+        self._scenes = SceneCache()
         self._truth: Superquadric | None = None
         self._rng: np.random.Generator | None = None
         self._explorer = None
@@ -101,17 +106,20 @@ class MujocoBackend(SupportedBackend):
         Raises:
             SimulationError: the object is too large or too far for the hand.
         """
-        from hapticsim.sim.explorer import Explorer, ExplorerConfig
+        from hapticsim.sim.explorer import Explorer, ExplorerConfig, planning_config
         from hapticsim.sim.recorder import Recorder
         from hapticsim.sim.rough import RoughObject, vision_estimate
         from hapticsim.sim.scene import build_scene
 
         self.close()
         offset = np.zeros(3) if position_error is None else np.asarray(position_error, float)
-        scene = build_scene(shape, self.scene_config)
+        scene = self._scenes.scene(shape, self.scene_config)
         rough = vision_estimate(shape, rng, position_sigma=0.0, size_sigma=self.size_sigma)
         rough = RoughObject(rough.shape.replace(center=shape.center + offset), rough.has_edges)
-        self._explorer = Explorer(scene, rough, Recorder(None), ExplorerConfig())
+        planning = build_scene(rough.shape, planning_config(scene.config))
+        self._explorer = Explorer(
+            scene, rough, Recorder(None), ExplorerConfig(), planning_scene=planning
+        )
         stand = scene.stand_geom_id
         foot = scene.model.geom_pos[stand].copy()
         foot[2] = scene.model.geom_pos[stand][2] + scene.model.geom_size[stand][1] - 0.002

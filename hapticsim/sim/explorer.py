@@ -37,7 +37,19 @@ from hapticsim.sim.simulator import TUCKED_POSTURE, Simulator
 Array = NDArray[np.float64]
 
 #: Mesh resolution of the planning scene (the rough object).
-PLANNING_MESH_RESOLUTION: int = 48
+PLANNING_MESH_RESOLUTION: int = 32
+#: Ways of moving the palm between patterns (:attr:`ExplorerConfig.transit`).
+TRANSITS: tuple[str, ...] = ("teleport", "simulate")
+#: Smallest distance [m] between the hand and anything else for a pose to count as clear when
+#: the hand is put there without simulating the way (the hand's geoms report contacts within
+#: their 1 mm margin, so clear means no contact reported at all).
+PLACE_CLEARANCE: float = 0.001
+
+
+def planning_config(config: SceneConfig) -> SceneConfig:
+    """The build options of a planning scene for a scene built with `config`: the same
+    workspace, a coarser mesh (:data:`PLANNING_MESH_RESOLUTION`)."""
+    return SceneConfig(mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=config.workspace)
 
 
 @dataclass(frozen=True)
@@ -52,6 +64,13 @@ class ExplorerConfig:
         max_sim_time: longest simulated time of one exploration [s].
         pattern_timeout: longest simulated time of one pattern [s].
         max_misses: the exploration gives up after this many probes in a row met nothing.
+        transit: how the palm gets from one pattern to the next. ``"teleport"`` (default): the
+            hand is put at rest at the new pose when it is clear of everything there
+            (:meth:`Simulator.place`), or at the entry point `back_off` short of it, from
+            where the approach is simulated; the way around the object is free space by
+            construction and no contact is recorded on it, so stepping it is not physics.
+            ``"simulate"``: every move is stepped (back off, around the object on the safety
+            sphere, in), e.g. for a video.
     """
 
     probe: ProbeConfig = field(default_factory=ProbeConfig)
@@ -61,10 +80,15 @@ class ExplorerConfig:
     max_sim_time: float = 120.0
     pattern_timeout: float = 20.0
     max_misses: int = 30
+    transit: str = "teleport"
 
     def __post_init__(self) -> None:
         positive_fields(self, ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"))
         positive_int(self.max_misses, "max_misses")
+        if self.transit not in TRANSITS:
+            raise InvalidInputError(
+                f"`transit` must be one of {', '.join(TRANSITS)}, got {self.transit!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -106,6 +130,8 @@ class Explorer:
         progress: called with the number of recorded contacts after every pattern.
         on_pattern_end: called with the explorer after every pattern, fingers still on the
             object (e.g. to take a picture).
+        planning_scene: the scene the palm planner works on; it must hold the rough object
+            (default: built from ``rough.shape``, see :func:`planning_scene`).
     """
 
     def __init__(
@@ -116,6 +142,7 @@ class Explorer:
         config: ExplorerConfig | None = None,
         progress: Callable[[int], None] | None = None,
         on_pattern_end: Callable[[Explorer], None] | None = None,
+        planning_scene: Scene | None = None,
     ) -> None:
         self.scene = scene
         self.rough = rough
@@ -124,10 +151,8 @@ class Explorer:
         self.progress = progress
         self.on_pattern_end = on_pattern_end
         self.sim = Simulator(scene)
-        planning_scene = build_scene(
-            rough.shape,
-            SceneConfig(mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=scene.config.workspace),
-        )
+        if planning_scene is None:
+            planning_scene = build_scene(rough.shape, planning_config(scene.config))
         self.planner = PalmPlanner(planning_scene)
         self.patterns_run = 0
         self.log: list[dict[str, object]] = []
@@ -223,13 +248,40 @@ class Explorer:
         tuck, the palm travels around the object on the safety sphere (turning on the way), the
         fingers named in `postures` unfold, and the palm moves in along `approach_world`.
 
+        With ``config.transit == "teleport"`` the way out and around is not stepped (see
+        :class:`ExplorerConfig`): the hand is put at rest at the goal, or at the entry point
+        from where the approach is stepped; only when both are blocked is every move stepped.
+
         Args:
             pose: the goal.
             approach_world: (3,) main approach direction of the coming pattern.
             postures: joint postures [rad] by finger index to take before moving in.
         """
-        sim, c = self.sim, self.rough.center
         d_new = np.asarray(approach_world, float) / np.linalg.norm(approach_world)
+        if self.config.transit == "teleport" and self._place(pose, d_new, postures):
+            self._approach = d_new
+            return
+        self._simulated_move(pose, d_new, postures)
+        self._approach = d_new
+
+    def _place(self, pose: PalmPose, d_new: Array, postures: Mapping[int, Array]) -> bool:
+        """Put the hand at the goal, else at the entry and step the approach; False (state
+        unchanged) when both are blocked."""
+        sim = self.sim
+        saved = sim.get_state()
+        sim.place(pose.position, pose.rotation, postures)
+        if sim.hand_clearance() >= PLACE_CLEARANCE:
+            return True
+        entry = pose.position - d_new * self.config.back_off
+        sim.place(entry, pose.rotation, postures)
+        if sim.hand_clearance() >= PLACE_CLEARANCE:
+            self._go(pose.position, pose.rotation, settle=True)
+            return True
+        sim.set_state(saved)
+        return False
+
+    def _simulated_move(self, pose: PalmPose, d_new: Array, postures: Mapping[int, Array]) -> None:
+        sim, c = self.sim, self.rough.center
         for f in self.scene.hand.fingers:
             sim.set_posture(f.index, sim.hand.finger_qpos(sim.data, f.index))
         pos, rot = sim.mocap_pose()
@@ -255,7 +307,6 @@ class Explorer:
         for f, q in postures.items():
             sim.set_posture(f, q)
         self._go(pose.position, pose.rotation, settle=True)
-        self._approach = d_new
 
     # ------------------------------------------------------------------ running controllers
     def run(self, tasks: Sequence[FingerTask]) -> None:
@@ -320,7 +371,12 @@ class Explorer:
                 (group if ok else rest).append(p)
             if not group:  # the nominal posture itself reaches `first`'s aim
                 group, rest = [first], [p for p in remaining if p is not first]
-            self.move_palm(pose, mean_dir, {finger: posture})
+            # move in with the tip already at the first probe's start point
+            q, err = self.planner.kin.ik(
+                finger, group[0].start(self.config.probe.standoff), pose.position,
+                pose.rotation, posture,
+            )  # fmt: skip
+            self.move_palm(pose, mean_dir, {finger: q if err < 0.002 else posture})
             limit = self.config.max_misses - self.misses
             self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe, limit)])
             remaining = rest
@@ -364,4 +420,4 @@ class Explorer:
         return len(self.recorder) - before
 
 
-__all__ = ["Explorer", "ExplorerConfig", "StripeSpec"]
+__all__ = ["Explorer", "ExplorerConfig", "StripeSpec", "TRANSITS", "planning_config"]

@@ -10,6 +10,8 @@ bottom edges. The ground truth travels with the scene (:attr:`Scene.truth`).
 
 from __future__ import annotations
 
+import copy
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import mujoco
@@ -42,6 +44,10 @@ OBJECT_NAME: str = "object"
 STAND_HEIGHT: float = 0.15
 #: Largest radius of the stand [m] (smaller objects get a thinner one).
 STAND_RADIUS: float = 0.008
+#: Names of the stand geom, the table's prefix and the overview camera.
+STAND_NAME: str = "stand"
+TABLE_PREFIX: str = "table/"
+CAMERA_NAME: str = "overview"
 
 
 @dataclass(frozen=True)
@@ -73,7 +79,6 @@ class Scene:
 
     Attributes:
         model: the compiled ``mujoco.MjModel``.
-        spec: the ``mujoco.MjSpec`` it was compiled from.
         truth: the object's superquadric in the world frame (ground truth).
         hand: ids and kinematics of the hand.
         object_geom_id: id of the object's mesh geom.
@@ -84,7 +89,6 @@ class Scene:
     """
 
     model: mujoco.MjModel
-    spec: mujoco.MjSpec
     truth: Superquadric
     hand: Hand
     object_geom_id: int
@@ -92,6 +96,44 @@ class Scene:
     stand_geom_id: int
     table_top_z: float
     config: SceneConfig
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where the object's surroundings go for one pose of the object (world frame)."""
+
+    foot: Array  # (3,) lowest object vertex nearest the centre [m]
+    table_top_z: float  # [m]
+    stand_radius: float  # [m]
+    eye: Array  # (3,) camera position [m]
+    xyaxes: Array  # (6,) camera x and y axes
+
+    @property
+    def stand_pos(self) -> list[float]:
+        half = 0.5 * (STAND_HEIGHT + 0.002)
+        return [float(self.foot[0]), float(self.foot[1]), self.table_top_z + half]
+
+    @property
+    def table_pos(self) -> list[float]:
+        return [float(self.foot[0]), float(self.foot[1]), self.table_top_z]
+
+
+def _layout(truth: Superquadric, vertices_body: Array) -> _Layout:
+    """The stand under the lowest vertex nearest the centre (2 mm into the object), the table
+    :data:`STAND_HEIGHT` below the object's lowest point, the overview camera looking at it."""
+    vertices_world = vertices_body @ truth.rotation.T + truth.center
+    low_z = float(vertices_world[:, 2].min())
+    low = vertices_world[vertices_world[:, 2] < low_z + 1e-3]
+    foot = low[np.argmin(np.linalg.norm(low[:, :2] - truth.center[:2], axis=1))]
+    eye = truth.center + np.array([0.32, -0.30, 0.20])
+    forward = (truth.center - eye) / np.linalg.norm(truth.center - eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    return _Layout(
+        foot=foot, table_top_z=low_z - STAND_HEIGHT,
+        stand_radius=min(STAND_RADIUS, 0.3 * float(np.min(truth.a[:2]))), eye=eye,
+        xyaxes=np.concatenate([right, np.cross(right, forward)]),
+    )  # fmt: skip
 
 
 def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene:
@@ -108,7 +150,11 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
     Raises:
         SimulationError: the object is too large for the hand or outside its workspace.
     """
-    truth = superquadric_arg(truth, "truth")
+    return _compile(superquadric_arg(truth, "truth"), config)[0]
+
+
+def _compile(truth: Superquadric, config: SceneConfig | None) -> tuple[Scene, Array]:
+    """The scene and the object's mesh vertices (body frame)."""
     config = SceneConfig() if config is None else config
     config.workspace.check_object(truth)
 
@@ -116,6 +162,7 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
     spec.option.timestep = config.timestep
 
     vertices = object_vertices(truth, config.mesh_resolution)
+    layout = _layout(truth, vertices)
     spec.add_mesh(name=OBJECT_NAME, uservert=vertices.ravel().tolist())
     body = spec.worldbody.add_body(
         name=OBJECT_NAME, pos=truth.center.tolist(), quat=truth.quaternion.tolist()
@@ -130,48 +177,124 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
         friction=[config.friction, 0.005, 0.0001],
         rgba=[0.35, 0.55, 0.85, 1.0],
     )
-
-    vertices_world = vertices @ truth.rotation.T + truth.center
-    low_z = float(vertices_world[:, 2].min())
-    table_top_z = low_z - STAND_HEIGHT
-    # the stand: a post under the lowest vertex nearest the centre, 2 mm into the object
-    low = vertices_world[vertices_world[:, 2] < low_z + 1e-3]
-    foot = low[np.argmin(np.linalg.norm(low[:, :2] - truth.center[:2], axis=1))]
-    stand_radius = min(STAND_RADIUS, 0.3 * float(np.min(truth.a[:2])))
     spec.worldbody.add_geom(
-        name="stand",
+        name=STAND_NAME,
         type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-        size=[stand_radius, 0.5 * (STAND_HEIGHT + 0.002), 0.0],
-        pos=[foot[0], foot[1], table_top_z + 0.5 * (STAND_HEIGHT + 0.002)],
+        size=[layout.stand_radius, 0.5 * (STAND_HEIGHT + 0.002), 0.0],
+        pos=layout.stand_pos,
         contype=1,
         conaffinity=2,
         rgba=[0.3, 0.3, 0.3, 1.0],
     )
     table = mujoco.MjSpec.from_file(str(model_path("table.xml")))
-    frame = spec.worldbody.add_frame(pos=[foot[0], foot[1], table_top_z])
-    spec.attach(table, frame=frame, prefix="table/")
+    frame = spec.worldbody.add_frame(pos=layout.table_pos)
+    spec.attach(table, frame=frame, prefix=TABLE_PREFIX)
 
     spec.worldbody.add_light(name="key", pos=[0.3, -0.4, 1.2], dir=[-0.3, 0.4, -1.0])
     spec.worldbody.add_light(name="fill", pos=[-0.5, 0.3, 1.0], dir=[0.5, -0.3, -1.0])
-    eye = truth.center + np.array([0.32, -0.30, 0.20])
-    forward = (truth.center - eye) / np.linalg.norm(truth.center - eye)
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
     spec.worldbody.add_camera(
-        name="overview", pos=eye.tolist(), xyaxes=[*right, *np.cross(right, forward)], fovy=45.0
+        name=CAMERA_NAME, pos=layout.eye.tolist(), xyaxes=layout.xyaxes.tolist(), fovy=45.0
     )
-    model = spec.compile()
+    return _scene(spec.compile(), truth, layout, config), vertices
+
+
+def _scene(
+    model: mujoco.MjModel, truth: Superquadric, layout: _Layout, config: SceneConfig
+) -> Scene:
+    def ident(obj: mujoco.mjtObj, name: str) -> int:
+        return int(mujoco.mj_name2id(model, obj, name))
+
     return Scene(
         model=model,
-        spec=spec,
         truth=truth,
         hand=Hand(model),
-        object_geom_id=int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, OBJECT_NAME)),
-        object_body_id=int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, OBJECT_NAME)),
-        stand_geom_id=int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "stand")),
-        table_top_z=table_top_z,
+        object_geom_id=ident(mujoco.mjtObj.mjOBJ_GEOM, OBJECT_NAME),
+        object_body_id=ident(mujoco.mjtObj.mjOBJ_BODY, OBJECT_NAME),
+        stand_geom_id=ident(mujoco.mjtObj.mjOBJ_GEOM, STAND_NAME),
+        table_top_z=layout.table_top_z,
         config=config,
     )
+
+
+def _moved(scene: Scene, vertices_body: Array, truth: Superquadric) -> Scene:
+    """A copy of `scene` with its object at the pose of `truth` (same body-frame shape): the
+    object body, the stand, the table and the camera move; nothing is compiled again."""
+    scene.config.workspace.check_object(truth)
+    layout = _layout(truth, vertices_body)
+    model = copy.copy(scene.model)
+    model.body_pos[scene.object_body_id] = truth.center
+    model.body_quat[scene.object_body_id] = truth.quaternion
+    model.geom_pos[scene.stand_geom_id] = layout.stand_pos
+    table = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, TABLE_PREFIX + "table"))
+    model.body_pos[table] = layout.table_pos
+    camera = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, CAMERA_NAME))
+    x, y = layout.xyaxes[:3], layout.xyaxes[3:]
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.column_stack([x, y, np.cross(x, y)]).ravel())
+    model.cam_pos[camera] = layout.eye
+    model.cam_quat[camera] = quat
+    return _scene(model, truth, layout, scene.config)
+
+
+def _shape_key(truth: Superquadric) -> bytes:
+    return np.concatenate([truth.a, truth.eps, truth.taper]).tobytes()
+
+
+def _config_key(config: SceneConfig) -> tuple[object, ...]:
+    w = config.workspace
+    return (config.mesh_resolution, config.friction, config.timestep, w.base_world.tobytes(),
+            w.reach, w.max_object_radius, w.clearance)  # fmt: skip
+
+
+class SceneCache:
+    """Compiled scenes kept by object, so that an object that comes back is not compiled again.
+
+    Compiling a scene costs about 0.1 s, nearly all of it MuJoCo's convex hull of the object's
+    16k-vertex mesh; a cached scene costs nothing, and an object seen before in another pose (the
+    same body-frame shape) costs a copy of the model (~1 ms) with its object, stand, table and
+    camera moved. The least recently used object is dropped when `capacity` objects are kept.
+
+    Args:
+        capacity: number of objects (body-frame shapes and configurations) to keep, >= 1.
+    """
+
+    def __init__(self, capacity: int = 8) -> None:
+        self.capacity = positive_int(capacity, "capacity")
+        self._entries: OrderedDict[tuple[object, ...], tuple[Scene, Array]] = OrderedDict()
+        self.hits = 0
+        self.misses = 0
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def scene(self, truth: Superquadric, config: SceneConfig | None = None) -> Scene:
+        """The scene of `truth` under `config` (see :func:`build_scene`), from the cache when
+        the same body-frame shape was built before.
+
+        Raises:
+            SimulationError: the object is too large for the hand or outside its workspace.
+        """
+        truth = superquadric_arg(truth, "truth")
+        config = SceneConfig() if config is None else config
+        key = (_shape_key(truth), _config_key(config))
+        entry = self._entries.get(key)
+        if entry is None:
+            self.misses += 1
+            entry = _compile(truth, config)
+            self._entries[key] = entry
+            if len(self._entries) > self.capacity:
+                self._entries.popitem(last=False)
+            return entry[0]
+        self.hits += 1
+        self._entries.move_to_end(key)
+        scene, vertices = entry
+        if scene.truth == truth:
+            return scene
+        return _moved(scene, vertices, truth)
+
+    def clear(self) -> None:
+        """Drop every cached scene."""
+        self._entries.clear()
 
 
 __all__ = [
@@ -180,6 +303,7 @@ __all__ = [
     "DEFAULT_TIMESTEP",
     "STAND_HEIGHT",
     "Scene",
+    "SceneCache",
     "SceneConfig",
     "build_scene",
 ]

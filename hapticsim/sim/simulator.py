@@ -15,7 +15,9 @@ The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import mujoco
 import numpy as np
@@ -77,6 +79,13 @@ class ServoConfig:
         positive_fields(self, ["damping", "max_tip_error", *speeds.split()])
 
 
+class SavedState(NamedTuple):
+    """A snapshot of a :class:`Simulator` (:meth:`Simulator.get_state`)."""
+
+    physics: Array
+    commands: tuple[Any, ...]
+
+
 def _quat(rot: Array) -> Array:
     """(4,) unit quaternion (w, x, y, z) of a rotation matrix (MuJoCo's conversion, fast)."""
     quat = np.zeros(4)
@@ -112,7 +121,6 @@ class Simulator:
         self._contacts_stale = False
         # Views and ids used every control tick (MjData's arrays are views: no re-reading).
         self._warnings = self.data.warning.number  # (mjNWARNING,) int view
-        self._bad_state = np.array(_BAD_STATE, dtype=np.int64)
         self._rotvec = np.zeros(3)
         self._quat_buf = np.zeros(4)
 
@@ -164,6 +172,88 @@ class Simulator:
         mujoco.mj_forward(m, d)
         self._contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
         self._contacts_stale = False
+
+    def place(
+        self,
+        palm_world: Array,
+        palm_rot_world: Array,
+        postures: Mapping[int, Array] | None = None,
+    ) -> None:
+        """Put the hand at rest at a pose, without simulating the way there (a free-space move).
+
+        The palm and its mocap jump to the pose, every finger to its posture (fingers not in
+        `postures` tuck), all velocities are zero; simulation time does not advance. Use it only
+        where the way is free space (:meth:`hand_clearance` tells whether the pose is): it stands
+        for an arm that moves the hand around the object, which is not physics worth stepping.
+
+        Args:
+            palm_world: (3,) float, palm position [m, world].
+            palm_rot_world: (3, 3) float, palm rotation.
+            postures: joint postures [rad] by finger index.
+
+        Raises:
+            SimulationError: the pose is out of the arm's reach.
+        """
+        pos = finite_array(palm_world, "palm_world", (3,))
+        self.scene.config.workspace.check_palm(pos)
+        quat = _quat(finite_array(palm_rot_world, "palm_rot_world", (3, 3)))
+        m, d, hand = self.model, self.data, self.hand
+        postures = {} if postures is None else postures
+        a = hand.palm_qpos_adr
+        d.qpos[a : a + 3] = pos
+        d.qpos[a + 3 : a + 7] = quat
+        d.mocap_pos[hand.mocap_id] = pos
+        d.mocap_quat[hand.mocap_id] = quat
+        d.qvel[:] = 0.0
+        d.qacc_warmstart[:] = 0.0
+        for f in hand.fingers:
+            q = np.asarray(postures.get(f.index, TUCKED_POSTURE), dtype=np.float64)
+            q = np.minimum(np.maximum(q, f.ctrl_low), f.ctrl_high)
+            d.qpos[f.qpos_adr] = q
+            d.ctrl[f.actuator_ids] = q
+            self._posture[f.index] = q.copy()
+            self._tip_target[f.index] = None
+        self._palm_goal_pos = pos.copy()
+        self._palm_goal_quat = quat.copy()
+        self._palm_reached = True
+        mujoco.mj_forward(m, d)
+        self._contacts_stale = True
+
+    def hand_clearance(self) -> float:
+        """Smallest distance [m] between the hand and anything else in the current state,
+        among the contacts MuJoCo reports (those within the geoms' margins, 1 mm for the
+        hand's geoms); ``inf`` when there are none. Valid after a step or :meth:`place`."""
+        d, is_hand = self.data, self.hand.geom_is_hand
+        ncon = int(d.ncon)
+        if ncon == 0:
+            return math.inf
+        con = d.contact
+        geoms, dists = con.geom, con.dist
+        mixed = is_hand[geoms[:ncon, 0]] != is_hand[geoms[:ncon, 1]]
+        return float(dists[:ncon][mixed].min()) if mixed.any() else math.inf
+
+    def get_state(self) -> SavedState:
+        """The physics state (MuJoCo's ``mjSTATE_INTEGRATION``) and the commands, for
+        :meth:`set_state`."""
+        kind = mujoco.mjtState.mjSTATE_INTEGRATION
+        physics = np.empty(mujoco.mj_stateSize(self.model, kind))
+        mujoco.mj_getState(self.model, self.data, physics, kind)
+        commands = (
+            self._palm_goal_pos.copy(), self._palm_goal_quat.copy(), self._palm_reached,
+            self._palm_speed, self._palm_angular_speed, [p.copy() for p in self._posture],
+            [None if t is None else t.copy() for t in self._tip_target], self.steps,
+        )  # fmt: skip
+        return SavedState(physics, commands)
+
+    def set_state(self, saved: SavedState) -> None:
+        """Go back to a state saved by :meth:`get_state`."""
+        kind = mujoco.mjtState.mjSTATE_INTEGRATION
+        mujoco.mj_setState(self.model, self.data, saved.physics, kind)
+        (self._palm_goal_pos, self._palm_goal_quat, self._palm_reached, self._palm_speed,
+         self._palm_angular_speed, self._posture, self._tip_target,
+         self.steps) = saved.commands  # fmt: skip
+        mujoco.mj_forward(self.model, self.data)
+        self._contacts_stale = True
 
     def palm_pose(self) -> tuple[Array, Array]:
         """Actual palm position (3,) [m] and rotation (3, 3), world frame."""
@@ -276,10 +366,12 @@ class Simulator:
             ctrl[f.actuator_ids] = np.minimum(np.maximum(q, f.ctrl_low), f.ctrl_high)
 
     def _check_stable(self) -> None:
-        d = self.data
-        bad = self._warnings[self._bad_state].any()
-        if bad or not math.isfinite(float(d.qacc.sum() + d.qpos.sum())):
-            said = take_last_warning() if bad else None
+        # MuJoCo's own checks (mj_checkPos/Vel/Acc) catch non-finite and huge values, count a
+        # warning and reset the state: the three counters say it all.
+        w, (i, j, k) = self._warnings, _BAD_STATE
+        if w[i] or w[j] or w[k]:
+            d = self.data
+            said = take_last_warning()
             raise SimulationError(
                 f"the simulation went unstable at t = {d.time:.4f} s (bad or non-finite "
                 "positions, velocities or accelerations, mjWARN_BADQACC/BADQVEL/BADQPOS"

@@ -4,8 +4,9 @@ retract; repeated over a list of points (a patch, paper III-A).
 States per probe: ``move`` (tip to the start point ``aim - d (r + standoff)``), ``approach``
 (the target advances along ``d`` at constant speed), ``press`` (the target is pushed along the
 measured inward normal until the normal force reaches the threshold; the contact is recorded),
-``retract`` (back along the measured normal). A probe that meets nothing within its travel, or
-whose start the finger cannot reach, is skipped.
+``retract`` (back along the measured normal; not after the last probe, where the finger holds
+until the palm moves on). A probe that meets nothing within its travel, or whose start the
+finger cannot reach, is skipped.
 """
 
 from __future__ import annotations
@@ -140,6 +141,9 @@ class ProbeTask(FingerTask):
         sim.set_tip_target(self.finger, self._target)
 
     def _retract(self, sim: Simulator, normal: Array) -> None:
+        if self.index + 1 >= len(self.probes):  # the last probe: nothing to retract for
+            self._next(sim)
+            return
         self._state = "retract"
         self._t0 = sim.time
         self._retract_from = sim.tip_world(self.finger)
