@@ -5,8 +5,10 @@ One algorithm per module, like ``scipy.optimize._lsq``:
 
 - :mod:`~hapticsim.fitting.objective`: EOF on raw parameter vectors, counting and budget;
 - :mod:`~hapticsim.fitting.initial`: the paper's initial estimate and normal-derived seeds;
-- :mod:`~hapticsim.fitting.least_squares`: LS and nLS (trust-region reflective);
-- :mod:`~hapticsim.fitting.genetic`: the genetic algorithm;
+- :mod:`~hapticsim.fitting.least_squares`: LS and nLS, and every local stage of H and nH
+  (bounded Levenberg-Marquardt, compiled: :mod:`~hapticsim.fitting._lm_compiled`);
+- :mod:`~hapticsim.fitting.genetic`: the genetic algorithm (compiled:
+  :mod:`~hapticsim.fitting._ga_compiled`);
 - :mod:`~hapticsim.fitting.hybrid`: H and nH (genetic algorithm, then least squares);
 - :mod:`~hapticsim.fitting.methods`: method names and the default budget;
 - :mod:`~hapticsim.fitting.result`: :class:`FitResult`.

@@ -132,6 +132,7 @@ _MESSAGES = {
     "stall": "genetic algorithm stalled",
     "generations": "generation limit reached",
     "target": "target EOF reached",
+    "iterations": "least-squares step limit reached",
 }
 
 

@@ -39,15 +39,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
+from hapticsim.fitting import _ga_compiled as _ga
 from hapticsim.fitting.objective import Objective
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.geometry.superquadric import (
     N_PARAMS,
-    SLICE_A,
-    SLICE_CENTER,
-    SLICE_EPS,
     SLICE_ROTVEC,
-    SLICE_TAPER,
 )
 
 Array = NDArray[np.float64]
@@ -139,38 +136,10 @@ class GeneticRun:
     status: str
 
 
-# The 8 rotations S of the body frame that map the tapered superquadric family onto itself,
-# with the matching change of parameters: R -> R S, a -> a[perm], taper -> sign * taper[perm].
-def _symmetries() -> tuple[Array, NDArray[np.int64], NDArray[np.int64], Array]:
-    mats, a_perm, t_perm, t_sign = [], [], [], []
-    quarter = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # about z
-    half_x = np.diag([1.0, -1.0, -1.0])
-    for flip in (False, True):
-        for k in range(4):
-            s = np.linalg.matrix_power(quarter, k)
-            if flip:
-                s = s @ half_x
-            mats.append(s)
-            swap = k % 2 == 1
-            a_perm.append([1, 0, 2] if swap else [0, 1, 2])
-            t_perm.append([1, 0] if swap else [0, 1])
-            t_sign.append(-1.0 if flip else 1.0)
-    return (
-        np.array(mats),
-        np.array(a_perm, dtype=np.int64),
-        np.array(t_perm, dtype=np.int64),
-        np.array(t_sign),
-    )
-
-
-SYMMETRIES, _SYM_A, _SYM_T, _SYM_SIGN = _symmetries()
-# trace(M S) = sum_ik M_ik S_ki: a (9, 8) matrix turns flattened M into all 8 traces.
-_SYM_TRACE = np.ascontiguousarray(SYMMETRIES.transpose(0, 2, 1).reshape(8, 9).T)
-# Quarter turns about body x and y (not symmetries): R -> R J, a -> a[perm].
-_JUMPS = (
-    (np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]), np.array([0, 2, 1])),
-    (np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]), np.array([2, 1, 0])),
-)
+#: The 8 body-frame rotations S that map the tapered superquadric family onto itself (8, 3, 3).
+SYMMETRIES = _ga.SYMMETRIES
+#: Status names of :class:`GeneticRun`, indexed by the compiled run's status codes.
+STATUSES: tuple[str, ...] = ("budget", "generations", "target", "stall")
 
 
 def align_to(reference: Array, rotations: Array, vectors: Array) -> tuple[Array, Array]:
@@ -186,84 +155,12 @@ def align_to(reference: Array, rotations: Array, vectors: Array) -> tuple[Array,
         equivalent parameter sets the one whose rotation is closest to the reference (largest
         ``trace(R_ref^T R S)``). The rotation entries of the vectors are left as they were.
     """
-    rel = np.swapaxes(reference, 1, 2) @ rotations  # R_ref^T R
-    score = rel.reshape(-1, 9) @ _SYM_TRACE  # trace(R_ref^T R S) for every S
-    best = np.argmax(score, axis=1)
-    out = vectors.copy()
-    rows = np.arange(len(best))[:, None]
-    out[:, SLICE_A] = vectors[:, SLICE_A][rows, _SYM_A[best]]
-    out[:, SLICE_TAPER] = vectors[:, SLICE_TAPER][rows, _SYM_T[best]] * _SYM_SIGN[best, None]
-    return out, rotations @ SYMMETRIES[best]
-
-
-def _gram_schmidt(m: Array) -> Array:
-    """The rotations (P, 3, 3) nearest in spirit to m: columns 1, 2 orthonormalised, 3 = 1 x 2."""
-    u = m[:, :, 0] / np.linalg.norm(m[:, :, 0], axis=1, keepdims=True)
-    v = m[:, :, 1] - np.sum(u * m[:, :, 1], axis=1, keepdims=True) * u
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    return np.stack([u, v, np.cross(u, v)], axis=2)
-
-
-def _random_axis_rotations(rng: np.random.Generator, angles: Array) -> Array:
-    axes = rng.standard_normal((len(angles), 3))
-    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
-    return rotvec_to_matrix(axes * angles[:, None])
-
-
-def _tournament(rng: np.random.Generator, eof: Array, count: int, size: int) -> NDArray[np.int64]:
-    entrants = rng.integers(0, len(eof), size=(count, size))
-    return entrants[np.arange(count), np.argmin(eof[entrants], axis=1)]
-
-
-def _offspring(
-    rng: np.random.Generator,
-    genes: Array,
-    rot: Array,
-    eof: Array,
-    count: int,
-    options: GeneticOptions,
-    shrink: float,
-    size: float,
-) -> tuple[Array, Array]:
-    """`count` children (genes (count, 13), rotations (count, 3, 3)) of a population:
-    selection, crossover, mutation and jumps."""
-    first = _tournament(rng, eof, count, options.tournament)
-    second = _tournament(rng, eof, count, options.tournament)
-    p1, r1 = genes[first], rot[first]
-    p2, r2 = align_to(r1, rot[second], genes[second])
-
-    # Crossover: BLX-0.25 per gene (geometric for a); rotations blended and re-orthonormalised
-    # (after alignment the parents' axes are close, so this follows the geodesic closely).
-    cross = rng.random(count) < options.crossover_rate
-    w = rng.uniform(-0.25, 1.25, size=(count, N_PARAMS))
-    w[~cross] = 0.0
-    child = p1 + w * (p2 - p1)
-    child[:, SLICE_A] = p1[:, SLICE_A] * (p2[:, SLICE_A] / p1[:, SLICE_A]) ** w[:, SLICE_A]
-    rotation = _gram_schmidt(r1 + w[:, 7, None, None] * (r2 - r1))
-    rotation[~cross] = r1[~cross]
-
-    # Mutation, group by group, sizes shrinking with the budget used.
-    groups = rng.random((count, 5)) < options.mutation_rate
-    noise = rng.standard_normal((count, 10))
-    child[:, SLICE_A] *= np.exp(groups[:, 0:1] * (shrink * options.sigma_a) * noise[:, 0:3])
-    child[:, SLICE_EPS] += groups[:, 1:2] * (shrink * options.sigma_eps) * noise[:, 3:5]
-    child[:, SLICE_TAPER] += groups[:, 2:3] * (shrink * options.sigma_taper) * noise[:, 5:7]
-    child[:, SLICE_CENTER] += (
-        groups[:, 4:5] * (shrink * options.sigma_center * size) * noise[:, 7:10]
-    )
-    turn = groups[:, 3]
-    angles = (shrink * options.sigma_angle) * rng.standard_normal(int(turn.sum()))
-    rotation[turn] = _random_axis_rotations(rng, angles) @ rotation[turn]
-
-    # Jumps: a quarter turn about body x or y, a permuted to keep the extents in place.
-    jump = rng.random(count) < options.jump_rate
-    which = rng.integers(0, 2, size=count)
-    for k, (quarter, perm) in enumerate(_JUMPS):
-        sel = jump & (which == k)
-        rotation[sel] = rotation[sel] @ quarter
-        child[sel, SLICE_A] = child[sel][:, perm]
-        child[sel, SLICE_TAPER] = 0.0
-    return child, rotation
+    ref = np.ascontiguousarray(reference, dtype=np.float64)
+    rot = np.ascontiguousarray(rotations, dtype=np.float64)
+    genes = np.ascontiguousarray(vectors, dtype=np.float64)
+    out, out_rot = np.empty_like(genes), np.empty_like(rot)
+    _ga.align_many(ref, rot, genes, out, out_rot)
+    return out, out_rot
 
 
 def solid_distance(
@@ -283,40 +180,10 @@ def solid_distance(
     Returns:
         (P,) float.
     """
-    aligned, aligned_rot = align_to(other_rot, rot, genes)
-    cos = (np.sum(other_rot * aligned_rot, axis=(1, 2)) - 1.0) / 2.0
-    angle = np.arccos(np.clip(cos, -1.0, 1.0))
-    d_a = np.sum(np.abs(np.log(aligned[:, SLICE_A] / other_genes[:, SLICE_A])), axis=1)
-    d_c = np.linalg.norm(aligned[:, SLICE_CENTER] - other_genes[:, SLICE_CENTER], axis=1)
-    d_e = np.sum(np.abs(aligned[:, SLICE_EPS] - other_genes[:, SLICE_EPS]), axis=1)
-    d_t = np.sum(np.abs(aligned[:, SLICE_TAPER] - other_genes[:, SLICE_TAPER]), axis=1)
-    return angle / 0.5 + d_a / 0.3 + d_c / (0.2 * size) + (d_e + d_t) / 0.5
-
-
-def _crowd(
-    rng: np.random.Generator,
-    genes: Array,
-    rot: Array,
-    eof: Array,
-    kids: Array,
-    kid_rot: Array,
-    kid_eof: Array,
-    window: int,
-    size: float,
-) -> None:
-    """Restricted tournament replacement, in place: each child replaces the most similar of
-    `window` random individuals if it is fitter (children in turn)."""
-    count = len(kids)
-    entrants = np.argsort(rng.random((count, len(genes))), axis=1)[:, :window]
-    flat = entrants.ravel()
-    dist = solid_distance(
-        np.repeat(kids, window, axis=0), np.repeat(kid_rot, window, axis=0),
-        genes[flat], rot[flat], size,
-    ).reshape(count, window)  # fmt: skip
-    nearest = entrants[np.arange(count), np.argmin(dist, axis=1)]
-    for i, j in enumerate(nearest):
-        if kid_eof[i] < eof[j]:
-            genes[j], rot[j], eof[j] = kids[i], kid_rot[i], kid_eof[i]
+    args = [np.ascontiguousarray(x, dtype=np.float64) for x in (genes, rot, other_genes, other_rot)]
+    out = np.empty(args[0].shape[0])
+    _ga.solid_distance_many(*args, float(size), out)
+    return out
 
 
 def genetic_search(
@@ -343,63 +210,34 @@ def genetic_search(
     """
     opt = GeneticOptions() if options is None else options
     bounds = objective.bounds
-    start = objective.evaluations
-    cap = start + min(max_evaluations, objective.remaining)
-    genes = bounds.clip(np.atleast_2d(np.asarray(seeds, dtype=np.float64)))[: cap - start]
+    cap = int(min(max_evaluations, objective.remaining))
+    genes = np.ascontiguousarray(bounds.clip(np.atleast_2d(np.asarray(seeds, dtype=np.float64))))
     rot = rotvec_to_matrix(genes[:, SLICE_ROTVEC])
     n = opt.population
-    if 0 < len(genes) < n:
-        pick = rng.integers(0, len(genes), size=n - len(genes))
-        kids, kid_rot = _offspring(
-            rng, genes[pick], rot[pick], np.zeros(len(pick)), len(pick), opt, 1.0, bounds.size
-        )
-        genes = np.concatenate([genes, bounds.clip(kids)])[: cap - start]
-        rot = np.concatenate([rot, kid_rot])[: cap - start]
-    eof = objective.eof(genes, rot) if len(genes) else np.zeros(0)
-    order = np.argsort(eof, kind="stable")[:n]
-    genes, rot, eof = genes[order], rot[order], eof[order]
-
-    generations, stall, status = 0, 0, "budget"
-    best = float(eof[0]) if len(eof) else np.inf
-    crowding = opt.replacement == "crowding"
-    while True:
-        children = len(genes) if crowding else len(genes) - opt.elite
-        if children < 1 or objective.evaluations + children > cap:
-            status = "budget"
-            break
-        if opt.max_generations is not None and generations >= opt.max_generations:
-            status = "generations"
-            break
-        if best <= opt.target_eof:
-            status = "target"
-            break
-        if stall >= opt.stall_generations:
-            status = "stall"
-            break
-        used = (objective.evaluations - start) / max(cap - start, 1)
-        kids, kid_rot = _offspring(
-            rng, genes, rot, eof, children, opt, 1.0 - 0.75 * used, bounds.size
-        )
-        kids = bounds.clip(kids)
-        kid_eof = objective.eof(kids, kid_rot)
-        if crowding:
-            _crowd(rng, genes, rot, eof, kids, kid_rot, kid_eof, opt.window, bounds.size)
-        else:
-            genes = np.concatenate([genes[: opt.elite], kids])
-            rot = np.concatenate([rot[: opt.elite], kid_rot])
-            eof = np.concatenate([eof[: opt.elite], kid_eof])
-        order = np.argsort(eof, kind="stable")
-        genes, rot, eof = genes[order], rot[order], eof[order]
-        generations += 1
-        stall = 0 if eof[0] < best * (1.0 - 1e-4) else stall + 1
-        best = min(best, float(eof[0]))
-    genes = genes.copy()
-    if len(genes):
+    children = n if opt.replacement == "crowding" else n - opt.elite
+    hist_size = cap // max(children, 1) + 2
+    hist_evals, hist_best = np.empty(hist_size, np.int64), np.empty(hist_size)
+    out_genes, out_rot, out_eof = np.empty((n, N_PARAMS)), np.empty((n, 3, 3)), np.empty(n)
+    settings = np.array(
+        [opt.tournament, opt.crossover_rate, opt.mutation_rate, opt.jump_rate, opt.sigma_a,
+         opt.sigma_eps, opt.sigma_taper, opt.sigma_angle, opt.sigma_center], dtype=np.float64,
+    )  # fmt: skip
+    c = objective.contacts
+    count, generations, used, status, n_hist = _ga.ga_run(
+        c.points, c.normals, c.with_normals, objective.lam, objective.tapered, genes, rot,
+        bounds.lower, bounds.upper, bounds.size, cap, rng, n,
+        opt.replacement == "crowding", opt.window, opt.elite, settings, opt.stall_generations,
+        -1 if opt.max_generations is None else opt.max_generations, opt.target_eof,
+        out_genes, out_rot, out_eof, hist_evals, hist_best, c.tally,
+    )  # fmt: skip
+    genes, rot, eof = out_genes[:count].copy(), out_rot[:count], out_eof[:count].copy()
+    if count:
         genes[:, SLICE_ROTVEC] = matrix_to_rotvec(rot)
+    objective.record(used, genes[:1], eof[:1], history=(hist_evals[:n_hist], hist_best[:n_hist]))
     return GeneticRun(
         population=genes,
         eof=eof,
-        generations=generations,
-        evaluations=objective.evaluations - start,
-        status=status,
+        generations=int(generations),
+        evaluations=int(used),
+        status=STATUSES[status],
     )

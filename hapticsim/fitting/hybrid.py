@@ -3,8 +3,9 @@
 Budget split, in order:
 
 0. *seed steps*: every seed (:func:`~hapticsim.fitting.initial.seed_vectors`) takes
-   :attr:`HybridOptions.seed_steps` Levenberg-Marquardt steps, all at once
-   (:mod:`~hapticsim.fitting.batch_lm`, 14 evaluations per seed and step): a seed's EOF says
+   :attr:`HybridOptions.seed_steps` Levenberg-Marquardt steps
+   (:func:`~hapticsim.fitting.least_squares.multi_start_run`, up to 14 evaluations per seed and
+   step): a seed's EOF says
    little about its basin (a box seed with the right axes but no taper can score worse than a
    wrong one), three steps say much more;
 1. *genetic algorithm*: :attr:`HybridOptions.ga_fraction` of what is left (it stops earlier when
@@ -12,14 +13,14 @@ Budget split, in order:
 
 then least squares, in two rounds:
 
-1. *probe*: :attr:`HybridOptions.probe_steps` Levenberg-Marquardt steps, all at once
-   (:mod:`~hapticsim.fitting.batch_lm`), from up to :attr:`HybridOptions.polish` individuals of
-   the last generation, best first, that are different solids
-   (:func:`~hapticsim.fitting.genetic.solid_distance` > 1): the crowding GA keeps niches around
-   several local minima, and on sparse data the GA's best is often not in the deepest basin,
-   while a few least-squares steps tell the basins apart;
-2. *polish*: scipy's least squares (:mod:`~hapticsim.fitting.least_squares`) from the probe
-   that reached the lowest EOF, with everything that is left.
+1. *probe*: :attr:`HybridOptions.probe_steps` Levenberg-Marquardt steps
+   (:func:`~hapticsim.fitting.least_squares.multi_start_run`), from up to
+   :attr:`HybridOptions.polish` individuals of the last generation, best first, that are
+   different solids (:func:`~hapticsim.fitting.genetic.solid_distance` > 1): the crowding GA
+   keeps niches around several local minima, and on sparse data the GA's best is often not in
+   the deepest basin, while a few least-squares steps tell the basins apart;
+2. *polish*: least squares (:func:`~hapticsim.fitting.least_squares.least_squares_run`) from
+   the probe that reached the lowest EOF, with everything that is left.
 
 The result is the lowest EOF seen (``objective.best_vector``). With the default budget of
 5000 and the paper's 150 contacts, nH spends about 800-2400 evaluations on the seed steps
@@ -39,12 +40,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.fitting.batch_lm import batch_levenberg_marquardt, evaluations_per_step
 from hapticsim.fitting.genetic import GeneticOptions, GeneticRun, genetic_search, solid_distance
-from hapticsim.fitting.least_squares import MIN_RUN_EVALUATIONS, least_squares_run
+from hapticsim.fitting.least_squares import (
+    MIN_RUN_EVALUATIONS,
+    STEP_EVALUATIONS,
+    least_squares_run,
+    multi_start_run,
+)
 from hapticsim.fitting.objective import Objective
 from hapticsim.geometry.rotations import rotvec_to_matrix
-from hapticsim.geometry.superquadric import N_PARAMS, SLICE_ROTVEC
+from hapticsim.geometry.superquadric import SLICE_ROTVEC
 
 Array = NDArray[np.float64]
 
@@ -58,7 +63,7 @@ class HybridOptions:
         polish: most distinct GA individuals probed by least squares, >= 1.
         probe_steps: Levenberg-Marquardt steps of the probe (all starts at once), >= 1.
         seed_steps: Levenberg-Marquardt steps on all seeds before the genetic algorithm
-            (:mod:`~hapticsim.fitting.batch_lm`), >= 0.
+            (:func:`~hapticsim.fitting.least_squares.multi_start_run`), >= 0.
         genetic: settings of the genetic algorithm.
     """
 
@@ -120,8 +125,8 @@ def hybrid_search(
         status when nothing was left for least squares.
     """
     opt = HybridOptions() if options is None else options
-    if opt.seed_steps and objective.remaining >= len(seeds) + evaluations_per_step(len(seeds)):
-        seeds, _ = batch_levenberg_marquardt(objective, seeds, opt.seed_steps)
+    if opt.seed_steps and objective.remaining >= len(seeds) * (1 + STEP_EVALUATIONS):
+        seeds, _ = multi_start_run(objective, seeds, opt.seed_steps)
     ga_budget = max(1, int(opt.ga_fraction * objective.remaining))
     if objective.remaining - ga_budget < MIN_RUN_EVALUATIONS:
         ga_budget = objective.remaining
@@ -129,8 +134,8 @@ def hybrid_search(
     starts = np.array(distinct_starts(run, opt.polish, objective.bounds.size))
     if objective.remaining < MIN_RUN_EVALUATIONS or not len(starts):
         return run, run.status
-    probe_cost = len(starts) * opt.probe_steps * (N_PARAMS + 1)
+    probe_cost = len(starts) * (1 + opt.probe_steps * STEP_EVALUATIONS)
     if len(starts) > 1 and objective.remaining >= probe_cost + MIN_RUN_EVALUATIONS:
-        starts, eof = batch_levenberg_marquardt(objective, starts, opt.probe_steps)
+        starts, eof = multi_start_run(objective, starts, opt.probe_steps)
         starts = starts[np.argsort(eof, kind="stable")]
     return run, least_squares_run(objective, starts[0]).status

@@ -14,8 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
-from hapticsim.geometry.eof import ResidualWorkspace, contacts_homogeneous, population_residuals
-from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
+from hapticsim.geometry.eof import ContactSet, check_distance
+from hapticsim.geometry.rotations import matrix_to_rotvec
 from hapticsim.geometry.superquadric import (
     N_PARAMS,
     SLICE_A,
@@ -108,16 +108,16 @@ class Objective:
     ) -> None:
         self.points = points_world
         self.distance = distance
+        self.tapered = check_distance(distance)
         self.normals = normals_world
         self.lam = float(lam)
         self.budget = int(budget)
         self.count = int(points_world.shape[0])
         self.bounds = Bounds.from_points(points_world)
+        self.contacts = ContactSet.from_arrays(points_world, normals_world)
         self.evaluations = 0
         self.best_vector: Array | None = None
         self.best_eof = np.inf
-        self._homog = contacts_homogeneous(points_world, normals_world)
-        self._workspace = ResidualWorkspace()
         self._history_evals: list[int] = []
         self._history_eof: list[float] = []
 
@@ -147,30 +147,51 @@ class Objective:
         v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
         if v.shape[0] > self.remaining:
             raise BudgetExhausted
-        rot = rotvec_to_matrix(v[:, SLICE_ROTVEC]) if rotations is None else rotations
-        r = population_residuals(
-            self._homog,
-            self.with_normals,
-            v[:, SLICE_A],
-            v[:, SLICE_EPS],
-            v[:, SLICE_TAPER],
-            rot,
-            v[:, SLICE_CENTER],
-            self.lam,
-            workspace=self._workspace,
-            tapered=self.distance == "tapered",
-        )
-        self.evaluations += v.shape[0]
+        if rotations is None:
+            r = self.contacts.residuals(v, self.lam, self.tapered)
+        else:
+            r = self.contacts.residuals_posed(v, rotations, self.lam, self.tapered)
         eof = np.einsum("ij,ij->i", r, r) / self.count
         best = int(np.argmin(eof))
-        if eof[best] < self.best_eof:
-            self.best_eof = float(eof[best])
-            self.best_vector = v[best].copy()
-            if rotations is not None:
-                self.best_vector[SLICE_ROTVEC] = matrix_to_rotvec(rotations[best])
+        if eof[best] < self.best_eof and rotations is not None:
+            v = v[best : best + 1].copy()
+            v[0, SLICE_ROTVEC] = matrix_to_rotvec(rotations[best])
+            self.record(len(eof), v, eof[best : best + 1])
+        else:
+            self.record(len(eof), v, eof)
+        return r
+
+    def record(
+        self,
+        evaluations: int,
+        vectors: Array,
+        eof: Array,
+        history: tuple[NDArray[np.int64], Array] | None = None,
+    ) -> None:
+        """Count `evaluations` done elsewhere (a compiled stage) and offer their results.
+
+        Args:
+            evaluations: evaluations used (> 0 adds a history entry).
+            vectors: (k, 13) float, vectors those evaluations reached.
+            eof: (k,) float, their EOF [m^2]; the lowest becomes the best if it beats it.
+            history: optional (evaluations since the stage began (h,), best EOF of the stage
+                so far (h,)), entries of the history within the stage.
+        """
+        if evaluations <= 0:
+            return
+        if history is not None:
+            for used, best in zip(*history, strict=True):
+                if 0 < used < evaluations:
+                    self._history_evals.append(self.evaluations + int(used))
+                    self._history_eof.append(min(self.best_eof, float(best)))
+        self.evaluations += int(evaluations)
+        if len(eof):
+            best = int(np.argmin(eof))
+            if eof[best] < self.best_eof:
+                self.best_eof = float(eof[best])
+                self.best_vector = np.array(vectors[best], dtype=np.float64)
         self._history_evals.append(self.evaluations)
         self._history_eof.append(self.best_eof)
-        return r
 
     def eof(self, vectors: Array, rotations: Array | None = None) -> Array:
         """EOF (P,) [m^2] of P vectors (P, 13); counts P evaluations (see :meth:`residuals`)."""

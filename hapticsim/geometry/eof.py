@@ -1,33 +1,120 @@
-"""Error of fit of contact data to superquadrics (SPEC §2, paper eqs. 7-9), vectorised.
+"""Error of fit of contact data to superquadrics (SPEC §2, paper eqs. 7-9).
 
-One call evaluates a whole population: the pose and shape arrays carry leading batch
-dimensions ``...`` that broadcast against the (n, 3) contacts. This is the one implementation of
-the EOF; the fitter and the quality measure theta both call it.
+The public face of the one EOF implementation, the compiled kernel
+:mod:`hapticsim.geometry._eof_compiled`; the fitter, the quality measure theta and the
+environment's fit schedule all call it.
 
-Speed (the fitter spends nearly all its time here): the batch is flattened to P superquadrics and
-evaluated as (P, n) blocks. One small matrix product moves points and normals of all P bodies into
-their body frames at once (homogeneous coordinates fold in the centre), the inside-outside
-function is evaluated once in the log domain (:func:`functions.log_inside_outside_terms`) and
-shared by the radial distance D1 and the model normal, and the normal distance uses
-``|n - n'|^2 = 2 - 2 n.n'`` for unit vectors. Large populations are processed in blocks of
-``_BLOCK`` bodies so the temporaries stay in cache.
+- :func:`contact_residuals` and :func:`error_of_fit` take superquadric parameter arrays with
+  leading batch dimensions ``...`` (a whole population in one call);
+- :class:`ContactSet` holds contacts laid out for the kernel, and :meth:`ContactSet.residuals`
+  / :meth:`ContactSet.jacobian` evaluate raw 13-vectors (:meth:`Superquadric.to_vector` order),
+  which is what the fitter works on.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.constants import DEFAULT_LAMBDA, MIN_TAPER_FACTOR
+from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import functions as fn
+from hapticsim.geometry import _eof_compiled as kernel
 
 Array = NDArray[np.float64]
 
 #: Ways of measuring the contact distance D1 (see :func:`contact_residuals`).
 DISTANCES: tuple[str, ...] = ("untapered", "tapered")
-#: Bodies per block: (P, n) temporaries of ~100 x 150 doubles stay in the L2 cache.
-_BLOCK = 128
+#: Parameters of a superquadric vector (a, eps, taper, rotation vector, centre).
+N_VECTOR = kernel.NP
+
+
+def check_distance(distance: str) -> bool:
+    """Whether `distance` (one of :data:`DISTANCES`) is ``"tapered"``; else InvalidInputError."""
+    if distance not in DISTANCES:
+        raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
+    return distance == "tapered"
+
+
+@dataclass(frozen=True, eq=False)
+class ContactSet:
+    """Contacts laid out for the compiled kernel: one row per coordinate, unit normals.
+
+    Attributes:
+        points: (3, n) float, contact points [m, world] (row k holds coordinate k).
+        normals: (3, n) float unit normals, zeros when `with_normals` is False.
+        with_normals: whether the EOF includes the normal term.
+        tally: (1,) int64, the evaluations the kernels did on these contacts (one per vector,
+            13 per Jacobian): what evaluation budgets are checked against.
+    """
+
+    points: Array
+    normals: Array
+    with_normals: bool
+    tally: NDArray[np.int64] = field(default_factory=lambda: np.zeros(1, np.int64))
+
+    @classmethod
+    def from_arrays(cls, points_world: Array, normals_world: Array | None) -> ContactSet:
+        """From (n, 3) points [m] and (n, 3) normals (normalised here) or None."""
+        points = np.ascontiguousarray(np.asarray(points_world, dtype=np.float64).T)
+        if normals_world is None:
+            return cls(points, np.zeros_like(points), False)
+        normals = np.asarray(normals_world, dtype=np.float64)
+        normals = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+        return cls(points, np.ascontiguousarray(normals.T), True)
+
+    @property
+    def count(self) -> int:
+        """The number of contacts n."""
+        return int(self.points.shape[1])
+
+    def residuals(self, vectors: Array, lam: float, tapered: bool) -> Array:
+        """Residuals (P, n) [m] of P parameter vectors (P, 13)."""
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        out = np.empty((v.shape[0], self.count))
+        kernel.residuals_vectors(
+            self.points,
+            self.normals,
+            self.with_normals,
+            v,
+            float(lam),
+            bool(tapered),
+            out,
+            self.tally,
+        )
+        return out
+
+    def residuals_posed(self, vectors: Array, rotations: Array, lam: float, tapered: bool) -> Array:
+        """Residuals (P, n) [m] of P vectors (P, 13) whose rotations are given as matrices
+        (P, 3, 3) instead (the rotation-vector entries of `vectors` are ignored)."""
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        rot = np.ascontiguousarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
+        out = np.empty((v.shape[0], self.count))
+        kernel.residuals_posed(
+            self.points, self.normals, self.with_normals, np.ascontiguousarray(v[:, 0:3]),
+            np.ascontiguousarray(v[:, 3:5]), np.ascontiguousarray(v[:, 5:7]), rot,
+            np.ascontiguousarray(v[:, 10:13]), float(lam), bool(tapered), out, self.tally,
+        )  # fmt: skip
+        return out
+
+    def jacobian(self, vector: Array, lam: float, tapered: bool) -> tuple[Array, Array]:
+        """Residuals (n,) [m] and their analytic Jacobian (n, 13) at one vector (13,)."""
+        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_VECTOR)
+        r = np.empty(self.count)
+        jac_t = np.empty((N_VECTOR, self.count))
+        kernel.jacobian_vector(
+            self.points,
+            self.normals,
+            self.with_normals,
+            x,
+            float(lam),
+            bool(tapered),
+            r,
+            jac_t,
+            self.tally,
+        )
+        return r, jac_t.T
 
 
 def contact_residuals(
@@ -60,9 +147,8 @@ def contact_residuals(
     Returns:
         (..., n) float residuals [m].
     """
-    if distance not in DISTANCES:
-        raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
-    points = np.asarray(points_world, dtype=np.float64)
+    tapered = check_distance(distance)
+    contacts = ContactSet.from_arrays(points_world, normals_world)
     a = np.asarray(a, dtype=np.float64)
     eps = np.asarray(eps, dtype=np.float64)
     taper = np.asarray(taper, dtype=np.float64)
@@ -76,19 +162,13 @@ def contact_residuals(
     def flat(x: Array, tail: tuple[int, ...]) -> Array:
         return np.ascontiguousarray(np.broadcast_to(x, batch + tail).reshape((count, *tail)))
 
-    homog = contacts_homogeneous(points, normals_world)
-    r = population_residuals(
-        homog,
-        normals_world is not None,
-        flat(a, (3,)),
-        flat(eps, (2,)),
-        flat(taper, (2,)),
-        flat(rotation, (3, 3)),
-        flat(center, (3,)),
-        lam,
-        tapered=distance == "tapered",
-    )
-    return r.reshape((*batch, points.shape[0]))
+    out = np.empty((count, contacts.count))
+    kernel.residuals_posed(
+        contacts.points, contacts.normals, contacts.with_normals, flat(a, (3,)), flat(eps, (2,)),
+        flat(taper, (2,)), flat(rotation, (3, 3)), flat(center, (3,)), float(lam), tapered, out,
+        contacts.tally,
+    )  # fmt: skip
+    return out.reshape((*batch, contacts.count))
 
 
 def error_of_fit(
@@ -110,196 +190,3 @@ def error_of_fit(
         points_world, normals_world, a, eps, taper, rotation, center, lam, distance
     )
     return np.mean(r**2, axis=-1)
-
-
-def contacts_homogeneous(points_world: Array, normals_world: Array | None) -> Array:
-    """Contacts as one (4, n) or (4, 2n) homogeneous block for :func:`population_residuals`.
-
-    Points get a 1 in the fourth row, normals (normalised to unit length) a 0, so one matrix
-    product applies rotation and translation to the points and only the rotation to the normals.
-
-    Args:
-        points_world: (n, 3) float [m]; normals_world: (n, 3) float or None.
-
-    Returns:
-        (4, n) float, or (4, 2n) with the normals in the last n columns.
-    """
-    points = np.asarray(points_world, dtype=np.float64)
-    n = points.shape[0]
-    cols = n if normals_world is None else 2 * n
-    homog = np.zeros((4, cols))
-    homog[:3, :n] = points.T
-    homog[3, :n] = 1.0
-    if normals_world is not None:
-        normals = np.asarray(normals_world, dtype=np.float64)
-        homog[:3, n:] = (normals / np.linalg.norm(normals, axis=1, keepdims=True)).T
-    return homog
-
-
-def population_residuals(
-    homog: Array,
-    with_normals: bool,
-    a: Array,
-    eps: Array,
-    taper: Array,
-    rotation: Array,
-    center: Array,
-    lam: float = DEFAULT_LAMBDA,
-    workspace: ResidualWorkspace | None = None,
-    tapered: bool = False,
-) -> Array:
-    """Residuals of eq. (9) for a flat population of P superquadrics (the fast path).
-
-    Args:
-        homog: contacts from :func:`contacts_homogeneous`, (4, n) or (4, 2n).
-        with_normals: whether ``homog`` holds normals in its last n columns.
-        a: (P, 3) [m]; eps: (P, 2); taper: (P, 2); rotation: (P, 3, 3); center: (P, 3) [m].
-        lam: weight lambda of the normal term.
-        tapered: measure D1 on the tapered solid (``distance="tapered"`` of
-            :func:`contact_residuals`) instead of in the untapered frame (SPEC §2).
-        workspace: reusable temporaries; pass one when calling repeatedly (a fitter does), so
-            no large array is allocated per call. Not thread-safe: one per thread.
-
-    Returns:
-        (P, n) float residuals [m] (a new array).
-    """
-    count = a.shape[0]
-    n = homog.shape[1] // 2 if with_normals else homog.shape[1]
-    work = ResidualWorkspace() if workspace is None else workspace
-    out = np.empty((count, n))
-    for start in range(0, count, _BLOCK):
-        sl = slice(start, min(start + _BLOCK, count))
-        _residual_block(
-            homog, n, with_normals, a[sl], eps[sl], taper[sl], rotation[sl], center[sl], lam,
-            work.buffers(sl.stop - sl.start, n), out[sl], tapered,
-        )  # fmt: skip
-    return out
-
-
-class ResidualWorkspace:
-    """Preallocated temporaries of :func:`population_residuals`, reused across calls.
-
-    Allocating a dozen fresh (P, n) arrays per call costs as much as the arithmetic (the C
-    allocator hands large blocks back to the system and page-faults them in again).
-    """
-
-    #: Most block shapes kept (a fitter alternates a few: 1 vector, 13 for a Jacobian, ...).
-    MAX_SHAPES = 6
-
-    def __init__(self) -> None:
-        self._bufs: dict[tuple[int, int], tuple[Array, Array, Array]] = {}
-
-    def buffers(self, count: int, n: int) -> tuple[Array, Array, Array]:
-        """(body (2, 3P, n), terms (7, P, n), scratch (8, P, n)) for P bodies and n contacts."""
-        key = (count, n)
-        if key not in self._bufs:
-            if len(self._bufs) >= self.MAX_SHAPES:
-                self._bufs.pop(next(iter(self._bufs)))
-            self._bufs[key] = (
-                np.empty((2, 3 * count, n)),
-                np.empty((7, count, n)),
-                np.empty((8, count, n)),
-            )
-        return self._bufs[key]
-
-
-def _residual_block(
-    homog: Array,
-    n: int,
-    with_normals: bool,
-    a: Array,
-    eps: Array,
-    taper: Array,
-    rotation: Array,
-    center: Array,
-    lam: float,
-    buffers: tuple[Array, Array, Array],
-    out: Array,
-    tapered: bool,
-) -> None:
-    """:func:`population_residuals` for one block of P bodies into `out` (P, n)."""
-    count = a.shape[0]
-    body2d, terms, scratch = buffers
-    # Row j*P + k of `pose` maps a homogeneous world contact to coordinate j of body k:
-    # p_body_j = R[:, j] . (x - x0); x, y, z and the normals come out as contiguous (P, n).
-    pose = np.empty((3, count, 4))
-    pose[:, :, :3] = rotation.transpose(2, 0, 1)
-    pose[:, :, 3] = -np.einsum("ki,kij->jk", center, rotation)
-    pose2d = pose.reshape(3 * count, 4)
-    np.matmul(pose2d, homog[:, :n], out=body2d[0])
-    x, y, z = body2d[0].reshape(3, count, n)
-    if with_normals:
-        np.matmul(pose2d[:, :3], homog[:3, n:], out=body2d[1])
-        mx, my, mz = body2d[1].reshape(3, count, n)
-    fx, fy, xs, ys, lu, lv, lw, t0 = scratch
-
-    e1, e2 = eps[:, 0:1], eps[:, 1:2]
-    inv_a = 1.0 / a
-    taper_a3 = taper * inv_a[:, 2:3]  # t / a3
-    # Untaper (paper eq. 2): divide x, y by 1 + t z / a3 (clipped beyond an apex).
-    for f, t, coord, sym in ((fx, taper_a3[:, 0:1], x, xs), (fy, taper_a3[:, 1:2], y, ys)):
-        np.multiply(z, t, out=f)
-        f += 1.0
-        if f.min() < MIN_TAPER_FACTOR:
-            np.maximum(f, MIN_TAPER_FACTOR, out=f)
-        np.divide(coord, f, out=sym)
-    fn.log_abs_scaled(xs, inv_a[:, 0:1], out=lu)
-    fn.log_abs_scaled(ys, inv_a[:, 1:2], out=lv)
-    fn.log_abs_scaled(z, inv_a[:, 2:3], out=lw)
-    fn.log_inside_outside_terms(lu, lv, lw, e1, e2, out=terms)
-    # Is any x, y or z exactly 0 (then its log is at the floor)? Only then look for zeros.
-    zeros = with_normals and bool(scratch[4:7].min() < fn.LOG_ZERO)
-    log_f = terms[fn.TERM_LOG_F]
-
-    # D1 = |p| |1 - F^(-eps1/2)| (SPEC §2), p the untapered point.
-    d1 = out
-    np.multiply(log_f, -0.5 * e1, out=d1)
-    np.exp(d1, out=d1)
-    d1 -= 1.0
-    norm = t0  # lu, lv, lw are free from here on
-    if tapered:
-        # The ray's surface point q = s p (untapered) maps back through the taper, so the world
-        # distance is |1 - s| |(x_s (1 + t_x z (1 + s) / a3), y_s (1 + t_y z (1 + s) / a3), z)|.
-        np.add(d1, 2.0, out=lu)  # 1 + s, as d1 holds s - 1 here
-        lu *= z
-        for k, (sym, square) in enumerate(((xs, norm), (ys, lw))):
-            np.multiply(lu, taper_a3[:, k : k + 1], out=lv)
-            lv += 1.0
-            lv *= sym
-            np.multiply(lv, lv, out=square)
-        norm += lw
-    else:
-        np.multiply(xs, xs, out=norm)
-        np.multiply(ys, ys, out=lu)
-        norm += lu
-    np.multiply(z, z, out=lu)
-    norm += lu
-    np.sqrt(norm, out=norm)
-    np.abs(d1, out=d1)
-    d1 *= norm
-    if not with_normals:
-        return
-
-    # Model normal J_t^-T grad F (eqs. 3-4) in the body frame, unnormalised.
-    shares = fn.gradient_shares(terms, out=scratch[4:7])  # over lu, lv, lw
-    nx, ny, nz = normal = (scratch[2], scratch[3], scratch[7])  # over xs, ys, |p|
-    fn.tapered_normals(shares, x, y, z, fx, fy, a, taper, normal, terms[6], zeros)
-    # D2 = |m - n'|^2 = 2 - 2 m.n' / |n'| for the unit data normal m (eq. 8).
-    dot, length, t1 = scratch[4], scratch[5], scratch[6]
-    np.multiply(nx, mx, out=dot)
-    np.multiply(ny, my, out=t1)
-    dot += t1
-    np.multiply(nz, mz, out=t1)
-    dot += t1
-    np.multiply(nx, nx, out=length)
-    np.multiply(ny, ny, out=t1)
-    length += t1
-    np.multiply(nz, nz, out=t1)
-    length += t1
-    np.sqrt(length, out=length)
-    length += 1e-300
-    dot /= length
-    np.subtract(1.0, dot, out=dot)
-    np.abs(dot, out=dot)  # >= 0 up to rounding
-    dot *= (2.0 * lam / 3.0) * np.sum(a, axis=1, keepdims=True)  # 2 lambda sigma
-    d1 += dot

@@ -1,0 +1,390 @@
+"""The genetic algorithm of the hybrid methods, compiled (numba): the whole run in one call.
+
+:mod:`hapticsim.fitting.genetic` describes the algorithm and is its public driver; this module
+runs it without returning to Python between generations (selection, crossover, mutation, jumps,
+crowding and the population EOF all compiled; before, their numpy overhead cost more than the
+evaluations themselves). Random numbers come from numba's generator, seeded once per run from
+the caller's :class:`numpy.random.Generator`, so the same seed gives the same run, bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from hapticsim.geometry._eof_compiled import JIT, NP, residuals_posed
+
+#: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
+STATUS_BUDGET, STATUS_GENERATIONS, STATUS_TARGET, STATUS_STALL = 0, 1, 2, 3
+
+
+def _symmetry_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The 8 body-frame rotations S mapping the tapered family onto itself, with the change of
+    parameters: R -> R S, a -> a[perm], taper -> sign * taper[perm]."""
+    mats, a_perm, t_perm, t_sign = [], [], [], []
+    quarter = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # about z
+    half_x = np.diag([1.0, -1.0, -1.0])
+    for flip in (False, True):
+        for k in range(4):
+            s = np.linalg.matrix_power(quarter, k)
+            if flip:
+                s = s @ half_x
+            mats.append(s)
+            swap = k % 2 == 1
+            a_perm.append([1, 0, 2] if swap else [0, 1, 2])
+            t_perm.append([1, 0] if swap else [0, 1])
+            t_sign.append(-1.0 if flip else 1.0)
+    return (
+        np.array(mats),
+        np.array(a_perm, dtype=np.int64),
+        np.array(t_perm, dtype=np.int64),
+        np.array(t_sign),
+    )
+
+
+SYMMETRIES, SYM_A, SYM_T, SYM_SIGN = _symmetry_tables()
+#: Quarter turns about body x and y (not symmetries): R -> R J, a -> a[perm].
+JUMP_MATS = np.array(
+    [
+        [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+    ]
+)
+JUMP_PERM = np.array([[0, 2, 1], [2, 1, 0]], dtype=np.int64)
+
+
+@njit(**JIT)
+def _matmul3(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
+
+
+@njit(**JIT)
+def align(
+    ref: np.ndarray, rot: np.ndarray, genes: np.ndarray, out_genes: np.ndarray,
+    out_rot: np.ndarray, sym: np.ndarray, sym_a: np.ndarray, sym_t: np.ndarray,
+    sym_sign: np.ndarray,
+) -> None:  # fmt: skip
+    """One solid (genes (13,), rotation (3, 3)) rewritten among its 8 equivalent parameter sets
+    into the one whose rotation is closest to `ref` (largest ``trace(ref^T R S)``)."""
+    best, best_score = 0, -math.inf
+    for s in range(8):
+        # trace(ref^T R S) = sum_ijk ref_ji R_jk S_ki
+        score = 0.0
+        for i in range(3):
+            for j in range(3):
+                rs = rot[j, 0] * sym[s, 0, i] + rot[j, 1] * sym[s, 1, i] + rot[j, 2] * sym[s, 2, i]
+                score += ref[j, i] * rs
+        if score > best_score:
+            best, best_score = s, score
+    for k in range(NP):
+        out_genes[k] = genes[k]
+    for k in range(3):
+        out_genes[k] = genes[sym_a[best, k]]
+    for k in range(2):
+        out_genes[5 + k] = genes[5 + sym_t[best, k]] * sym_sign[best]
+    _matmul3(rot, sym[best], out_rot)
+
+
+@njit(**JIT)
+def solid_distance(
+    genes: np.ndarray, rot: np.ndarray, other: np.ndarray, other_rot: np.ndarray, size: float,
+    tables: tuple,
+) -> float:  # fmt: skip
+    """The dimensionless distance of :func:`hapticsim.fitting.genetic.solid_distance`."""
+    aligned = np.empty(NP)
+    aligned_rot = np.empty((3, 3))
+    align(other_rot, rot, genes, aligned, aligned_rot, *tables)
+    cos = -1.0
+    for i in range(3):
+        for j in range(3):
+            cos += other_rot[i, j] * aligned_rot[i, j]
+    cos = min(max(cos / 2.0, -1.0), 1.0)
+    d_a = 0.0
+    for k in range(3):
+        d_a += abs(math.log(aligned[k] / other[k]))
+    d_c = math.sqrt(
+        (aligned[10] - other[10]) ** 2 + (aligned[11] - other[11]) ** 2
+        + (aligned[12] - other[12]) ** 2
+    )  # fmt: skip
+    d_s = 0.0
+    for k in range(3, 7):
+        d_s += abs(aligned[k] - other[k])
+    return math.acos(cos) / 0.5 + d_a / 0.3 + d_c / (0.2 * size) + d_s / 0.5
+
+
+@njit(**JIT)
+def _orthonormalise(m: np.ndarray, out: np.ndarray) -> None:
+    """Gram-Schmidt on the first two columns of m, third = first x second."""
+    n0 = math.sqrt(m[0, 0] ** 2 + m[1, 0] ** 2 + m[2, 0] ** 2)
+    u = (m[0, 0] / n0, m[1, 0] / n0, m[2, 0] / n0)
+    d = u[0] * m[0, 1] + u[1] * m[1, 1] + u[2] * m[2, 1]
+    v0, v1, v2 = m[0, 1] - d * u[0], m[1, 1] - d * u[1], m[2, 1] - d * u[2]
+    n1 = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+    v0, v1, v2 = v0 / n1, v1 / n1, v2 / n1
+    out[0, 0], out[1, 0], out[2, 0] = u
+    out[0, 1], out[1, 1], out[2, 1] = v0, v1, v2
+    out[0, 2] = u[1] * v2 - u[2] * v1
+    out[1, 2] = u[2] * v0 - u[0] * v2
+    out[2, 2] = u[0] * v1 - u[1] * v0
+
+
+@njit(**JIT)
+def _axis_angle(axis: np.ndarray, angle: float, out: np.ndarray) -> None:
+    """Rotation by `angle` [rad] about the unit `axis` (Rodrigues)."""
+    c, s = math.cos(angle), math.sin(angle)
+    t = 1.0 - c
+    x, y, z = axis[0], axis[1], axis[2]
+    out[0, 0], out[0, 1], out[0, 2] = t * x * x + c, t * x * y - s * z, t * x * z + s * y
+    out[1, 0], out[1, 1], out[1, 2] = t * x * y + s * z, t * y * y + c, t * y * z - s * x
+    out[2, 0], out[2, 1], out[2, 2] = t * x * z - s * y, t * y * z + s * x, t * z * z + c
+
+
+@njit(**JIT)
+def _tournament(rng: np.random.Generator, eof: np.ndarray, size: int) -> int:
+    best = rng.integers(0, eof.shape[0])
+    for _ in range(size - 1):
+        k = rng.integers(0, eof.shape[0])
+        if eof[k] < eof[best]:
+            best = k
+    return best
+
+
+@njit(**JIT)
+def offspring(
+    rng: np.random.Generator, genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, count: int,
+    settings: np.ndarray,
+    shrink: float, size: float, lower: np.ndarray, upper: np.ndarray, tables: tuple,
+    kids: np.ndarray, kid_rot: np.ndarray,
+) -> None:  # fmt: skip
+    """`count` children into `kids` (count, 13) and `kid_rot` (count, 3, 3), clipped into the
+    bounds: tournament selection, aligned BLX-0.25 crossover, group mutation, jumps.
+
+    `settings`: tournament, crossover rate, mutation rate, jump rate, sigma a, eps, taper,
+    angle, centre (see :class:`~hapticsim.fitting.genetic.GeneticOptions`).
+    """
+    tournament = int(settings[0])
+    p2 = np.empty(NP)
+    r2 = np.empty((3, 3))
+    blend = np.empty((3, 3))
+    turn = np.empty((3, 3))
+    tmp = np.empty((3, 3))
+    axis = np.empty(3)
+    w = np.empty(NP)
+    for c in range(count):
+        first = _tournament(rng, eof, tournament)
+        second = _tournament(rng, eof, tournament)
+        p1, r1 = genes[first], rot[first]
+        align(r1, rot[second], genes[second], p2, r2, *tables)
+        child, crot = kids[c], kid_rot[c]
+        if rng.random() < settings[1]:
+            for k in range(NP):
+                w[k] = rng.uniform(-0.25, 1.25)
+            for k in range(NP):
+                child[k] = p1[k] + w[k] * (p2[k] - p1[k])
+            for k in range(3):  # geometric blend of the semi-axes
+                child[k] = p1[k] * (p2[k] / p1[k]) ** w[k]
+            for i in range(3):
+                for j in range(3):
+                    blend[i, j] = r1[i, j] + w[7] * (r2[i, j] - r1[i, j])
+            _orthonormalise(blend, crot)
+        else:
+            for k in range(NP):
+                child[k] = p1[k]
+            for i in range(3):
+                for j in range(3):
+                    crot[i, j] = r1[i, j]
+        # Mutation by gene group, sizes shrinking as the budget is used.
+        if rng.random() < settings[2]:
+            for k in range(3):
+                child[k] *= math.exp(shrink * settings[4] * rng.standard_normal())
+        if rng.random() < settings[2]:
+            for k in range(3, 5):
+                child[k] += shrink * settings[5] * rng.standard_normal()
+        if rng.random() < settings[2]:
+            for k in range(5, 7):
+                child[k] += shrink * settings[6] * rng.standard_normal()
+        if rng.random() < settings[2]:
+            for k in range(3):
+                axis[k] = rng.standard_normal()
+            norm = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+            for k in range(3):
+                axis[k] /= norm
+            _axis_angle(axis, shrink * settings[7] * rng.standard_normal(), turn)
+            _matmul3(turn, crot, tmp)
+            crot[:, :] = tmp
+        if rng.random() < settings[2]:
+            for k in range(10, 13):
+                child[k] += shrink * settings[8] * size * rng.standard_normal()
+        # Jump: a quarter turn about body x or y, a permuted to keep the extents in place.
+        if rng.random() < settings[3]:
+            which = rng.integers(0, 2)
+            _matmul3(crot, JUMP_MATS[which], tmp)
+            crot[:, :] = tmp
+            a0, a1, a2 = child[0], child[1], child[2]
+            old = (a0, a1, a2)
+            for k in range(3):
+                child[k] = old[JUMP_PERM[which, k]]
+            child[5] = 0.0
+            child[6] = 0.0
+        for k in range(NP):
+            child[k] = min(max(child[k], lower[k]), upper[k])
+
+
+@njit(**JIT)
+def _evaluate(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
+    genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, tally: np.ndarray,
+) -> None:  # fmt: skip
+    """EOF [m^2] of each row of genes/rot into `eof`."""
+    count, n = genes.shape[0], points.shape[1]
+    r = np.empty((count, n))
+    residuals_posed(
+        points, normals, with_normals, genes[:, 0:3], genes[:, 3:5], genes[:, 5:7], rot,
+        genes[:, 10:13], lam, tapered, r, tally,
+    )  # fmt: skip
+    for k in range(count):
+        s = 0.0
+        for i in range(n):
+            s += r[k, i] * r[k, i]
+        eof[k] = s / n
+
+
+@njit(**JIT)
+def ga_run(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
+    seeds: np.ndarray, seed_rot: np.ndarray, lower: np.ndarray, upper: np.ndarray, size: float,
+    cap: int, rng: np.random.Generator, population: int, crowding: bool, window: int, elite: int,
+    settings: np.ndarray, stall_generations: int, max_generations: int, target_eof: float,
+    out_genes: np.ndarray, out_rot: np.ndarray, out_eof: np.ndarray,
+    hist_evals: np.ndarray, hist_best: np.ndarray, tally: np.ndarray,
+) -> tuple[int, int, int, int, int]:  # fmt: skip
+    """One genetic search (see :func:`hapticsim.fitting.genetic.genetic_search`).
+
+    Args:
+        seeds: (k, 13) start vectors, clipped; seed_rot: (k, 3, 3) their rotations.
+        cap: the most evaluations; rng: the generator of every random choice.
+        max_generations: -1 for no limit.
+        out_genes, out_rot, out_eof: (population, ...) buffers for the last generation, sorted
+            by EOF (the first ``count`` rows are valid).
+        hist_evals, hist_best: buffers for (evaluations so far, best EOF) after each population
+            call (the first ``n_hist`` entries are valid).
+
+    Returns:
+        ``(count, generations, evaluations, status, n_hist)``.
+    """
+    tables = (SYMMETRIES, SYM_A, SYM_T, SYM_SIGN)
+    n = population
+    k = min(seeds.shape[0], cap)
+    total = k
+    if 0 < k < n:
+        total = min(n, cap)
+    genes = np.empty((total, NP))
+    rot = np.empty((total, 3, 3))
+    genes[:k] = seeds[:k]
+    rot[:k] = seed_rot[:k]
+    if total > k:
+        # Fill the generation with mutated copies of random seeds.
+        pick = rng.integers(0, k, total - k)
+        zero = np.zeros(total - k)
+        offspring(
+            rng, seeds[pick], seed_rot[pick], zero, total - k, settings, 1.0, size, lower, upper,
+            tables, genes[k:], rot[k:],
+        )  # fmt: skip
+    eof = np.empty(total)
+    used = 0
+    n_hist = 0
+    if total > 0:
+        _evaluate(points, normals, with_normals, lam, tapered, genes, rot, eof, tally)
+        used = total
+    order = np.argsort(eof, kind="mergesort")[:n]
+    genes, rot, eof = genes[order], rot[order], eof[order]
+    count = genes.shape[0]
+    best = eof[0] if count > 0 else math.inf
+    if total > 0:
+        hist_evals[0], hist_best[0] = used, best
+        n_hist = 1
+
+    kids = np.empty((count, NP))
+    kid_rot = np.empty((count, 3, 3))
+    kid_eof = np.empty(count)
+    generations, stall, status = 0, 0, STATUS_BUDGET
+    while True:
+        children = count if crowding else count - elite
+        if children < 1 or used + children > cap:
+            status = STATUS_BUDGET
+            break
+        if max_generations >= 0 and generations >= max_generations:
+            status = STATUS_GENERATIONS
+            break
+        if best <= target_eof:
+            status = STATUS_TARGET
+            break
+        if stall >= stall_generations:
+            status = STATUS_STALL
+            break
+        shrink = 1.0 - 0.75 * used / max(cap, 1)
+        offspring(
+            rng, genes, rot, eof, children, settings, shrink, size, lower, upper, tables,
+            kids[:children], kid_rot[:children],
+        )  # fmt: skip
+        _evaluate(
+            points, normals, with_normals, lam, tapered, kids[:children], kid_rot[:children],
+            kid_eof[:children], tally,
+        )  # fmt: skip
+        used += children
+        if crowding:
+            # Restricted tournament replacement: each child meets `window` random individuals
+            # and replaces the most similar one if it is fitter.
+            for c in range(children):
+                entrants = rng.permutation(count)[:window]
+                nearest, near = entrants[0], math.inf
+                for j in entrants:
+                    d = solid_distance(kids[c], kid_rot[c], genes[j], rot[j], size, tables)
+                    if d < near:
+                        nearest, near = j, d
+                if kid_eof[c] < eof[nearest]:
+                    genes[nearest] = kids[c]
+                    rot[nearest] = kid_rot[c]
+                    eof[nearest] = kid_eof[c]
+        else:
+            genes[elite:] = kids[:children]
+            rot[elite:] = kid_rot[:children]
+            eof[elite:] = kid_eof[:children]
+        order = np.argsort(eof, kind="mergesort")
+        genes, rot, eof = genes[order], rot[order], eof[order]
+        generations += 1
+        stall = 0 if eof[0] < best * (1.0 - 1e-4) else stall + 1
+        best = min(best, eof[0])
+        if n_hist < hist_evals.shape[0]:
+            hist_evals[n_hist], hist_best[n_hist] = used, best
+            n_hist += 1
+    out_genes[:count] = genes
+    out_rot[:count] = rot
+    out_eof[:count] = eof
+    return count, generations, used, status, n_hist
+
+
+@njit(**JIT)
+def align_many(
+    ref: np.ndarray, rot: np.ndarray, genes: np.ndarray, out_genes: np.ndarray,
+    out_rot: np.ndarray,
+) -> None:  # fmt: skip
+    """:func:`align` row by row: (P, 3, 3), (P, 3, 3), (P, 13) into (P, 13), (P, 3, 3)."""
+    for p in range(genes.shape[0]):
+        align(ref[p], rot[p], genes[p], out_genes[p], out_rot[p], SYMMETRIES, SYM_A, SYM_T,
+              SYM_SIGN)  # fmt: skip
+
+
+@njit(**JIT)
+def solid_distance_many(
+    genes: np.ndarray, rot: np.ndarray, other: np.ndarray, other_rot: np.ndarray, size: float,
+    out: np.ndarray,
+) -> None:  # fmt: skip
+    """:func:`solid_distance` row by row into `out` (P,)."""
+    tables = (SYMMETRIES, SYM_A, SYM_T, SYM_SIGN)
+    for p in range(genes.shape[0]):
+        out[p] = solid_distance(genes[p], rot[p], other[p], other_rot[p], size, tables)
