@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -237,14 +238,15 @@ class AnalyticBackend(SupportedBackend):
 
     # ------------------------------------------------------------------ episode
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+        self, shape: Superquadric, rng: np.random.Generator, rough: Any = None
     ) -> Superquadric:
         """Place `shape` as given (its own pose) and start a new episode.
 
         Args:
             shape: the object.
             rng: the environment's generator (sensor noise).
-            position_error: error of the rough position (unused: ray casting needs no plan).
+            rough: the vision estimate (unused: ray casting needs no plan; the environment
+                aims every touch at its centre).
 
         Returns:
             the ground truth, `shape` itself.

@@ -72,8 +72,10 @@ class HapticExploreConfig:
         max_stroke: stroke length of action component 3 = 1 [m].
         stroke_spacing: distance between contacts along a stroke [m].
         noise: relative sensor noise sigma_N (SPEC §5).
-        position_noise: standard deviation of the object's rough position per axis [m] (what a
-            robot knows before touching: the origin of the object-centred frame).
+        position_noise: standard deviation per axis [m] of the camera-to-hand calibration error
+            added to the vision estimate's centre (:func:`hapticsim.sim.rough.vision_estimate`,
+            one noisy depth image); the result is the rough position, the origin of the
+            object-centred frame.
         obs_scale: length [m] dividing points, semi-axes and centre in the observation.
         reward: ``"epsilon"`` (privileged: the drop of the volume error epsilon of the estimate
             against the ground truth), ``"uncertainty"`` (drop of the coverage uncertainty of the
@@ -264,10 +266,12 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     An episode draws an object (the paper's four bodies by default, or random superquadrics,
     tapered or not) and keeps it in a fixed pose. The agent knows only the object's rough
-    position (the true centre plus Gaussian noise of ``position_noise`` per axis), the origin of
-    the *object-centred frame* (axes parallel to the world's). Each action is one touch, a probe
-    or a short contour stroke, executed by a scripted controller of the MuJoCo hand (or, with
-    ``backend="analytic"``, by ray casting on the analytic surface). The contacts so far are
+    position (the centre of a vision estimate from one noisy depth image, plus a calibration
+    error of ``position_noise`` per axis; :attr:`rough`), the origin of the *object-centred
+    frame* (axes parallel to the world's); the MuJoCo hand plans its palm poses on that
+    estimate. Each action is one touch, a probe or a short contour stroke, executed by a
+    scripted controller of the MuJoCo hand (or, with ``backend="analytic"``, by ray casting on
+    the analytic surface). The contacts so far are
     fitted by a superquadric (robust ``nH`` fits where they pay, warm-started least squares in
     between; see :class:`~hapticsim.envs.estimator.FitSchedule`).
 
@@ -390,6 +394,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM,), np.float32)
         self._truth: Superquadric | None = None
+        self._rough = None
         self._origin = np.zeros(3)
         self._clear()
 
@@ -410,6 +415,13 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def truth(self) -> Superquadric | None:
         """The ground truth of the episode (world frame), privileged."""
         return self._truth
+
+    @property
+    def rough(self):  # noqa: ANN201 - hapticsim.sim.rough.RoughObject
+        """What the planner was given this episode: the vision estimate
+        (:func:`hapticsim.sim.rough.vision_estimate`) moved to the rough position; None before
+        the first reset."""
+        return self._rough
 
     @property
     def origin(self) -> Array:
@@ -456,9 +468,15 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         self._clear()
         self._fitter.reset()
+        from hapticsim.sim.rough import vision_estimate
+
+        # what the robot knows before touching: one depth image's estimate, off by the
+        # camera-to-hand calibration error
+        rough = vision_estimate(shape, self.np_random)
         error = self.np_random.normal(0.0, self.config.position_noise, size=3)
-        self._truth = self._backend.reset(shape, self.np_random, error)
-        self._origin = self._truth.center + error
+        self._rough = rough.moved(rough.center + error)
+        self._truth = self._backend.reset(shape, self.np_random, rough=self._rough)
+        self._origin = self._rough.center.copy()
         info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
         return self._observation(), info
 

@@ -4,8 +4,8 @@ A thin adapter from a :class:`~hapticsim.envs.touch.Touch` to :mod:`hapticsim.si
 
 - the episode's scene (:func:`~hapticsim.sim.scene.build_scene`: hand, table, object mesh) and an
   :class:`~hapticsim.sim.explorer.Explorer` whose palm planner works on a *rough object*: the
-  truth with semi-axes off by a few per cent (:func:`~hapticsim.sim.rough.vision_estimate`) and
-  its centre at the environment's rough position;
+  environment's vision estimate (:func:`~hapticsim.sim.rough.vision_estimate`: a box or an
+  ellipsoid fitted to one noisy depth image) at its rough position;
 - the aim of a touch is where the approach ray (from far along ``d`` towards the rough position)
   meets the rough object;
 - a **probe**: one :class:`~hapticsim.sim.controllers.ProbeTask` probe at the aim, moving along
@@ -38,6 +38,7 @@ from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.sim.rough import RoughObject
 
 Array = NDArray[np.float64]
 
@@ -61,7 +62,6 @@ class MujocoBackend(SupportedBackend):
         stroke_spacing: distance between recorded contacts along a stroke [m].
         scene_config: scene options (:class:`hapticsim.sim.scene.SceneConfig`), default ones
             if None.
-        size_sigma: relative error of the rough object's semi-axes used for planning.
     """
 
     n_fingers: int = N_FINGERS
@@ -71,11 +71,9 @@ class MujocoBackend(SupportedBackend):
         noise: float = 0.0,
         stroke_spacing: float = 0.005,
         scene_config=None,  # noqa: ANN001 - hapticsim.sim.scene.SceneConfig
-        size_sigma: float = 0.03,
     ) -> None:
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-3, 0.05)
-        self.size_sigma = finite_float(size_sigma, "size_sigma", 0.0, 0.29)
         self.scene_config = scene_config
         from hapticsim.sim.scene import SceneCache
 
@@ -91,14 +89,17 @@ class MujocoBackend(SupportedBackend):
 
     # ------------------------------------------------------------------ episode
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+        self, shape: Superquadric, rng: np.random.Generator, rough: RoughObject | None = None
     ) -> Superquadric:
         """Build the scene for `shape` (placed as given, on a stand above the table).
 
         Args:
             shape: the object.
-            rng: the environment's generator (rough object, sensor noise).
-            position_error: (3,) float, error of the rough position the planner works with [m].
+            rng: the environment's generator (sensor noise; the vision estimate when `rough`
+                is None).
+            rough: what the palm planner knows (the environment's vision estimate at its rough
+                position); None: a vision estimate of its own
+                (:func:`~hapticsim.sim.rough.vision_estimate`).
 
         Returns:
             the ground truth, `shape` itself.
@@ -108,14 +109,13 @@ class MujocoBackend(SupportedBackend):
         """
         from hapticsim.sim.explorer import Explorer, ExplorerConfig, planning_config
         from hapticsim.sim.recorder import Recorder
-        from hapticsim.sim.rough import RoughObject, vision_estimate
+        from hapticsim.sim.rough import vision_estimate
         from hapticsim.sim.scene import build_scene
 
         self.close()
-        offset = np.zeros(3) if position_error is None else np.asarray(position_error, float)
         scene = self._scenes.scene(shape, self.scene_config)
-        rough = vision_estimate(shape, rng, position_sigma=0.0, size_sigma=self.size_sigma)
-        rough = RoughObject(rough.shape.replace(center=shape.center + offset), rough.has_edges)
+        if rough is None:
+            rough = vision_estimate(shape, rng)
         planning = build_scene(rough.shape, planning_config(scene.config))
         self._explorer = Explorer(
             scene, rough, Recorder(None), ExplorerConfig(), planning_scene=planning

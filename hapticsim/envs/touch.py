@@ -244,12 +244,13 @@ class TouchBackend(Protocol):
     n_fingers: int
 
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, position_error: Array | None = None
+        self, shape: Superquadric, rng: np.random.Generator, rough: Any = None
     ) -> Superquadric:
         """Start an episode on `shape`; return the ground truth in the backend's world frame.
 
-        `position_error` (3,) [m] is the error of the rough position the environment will aim
-        at (``truth.center + position_error``); a backend that plans (the hand) uses it.
+        `rough` (:class:`hapticsim.sim.rough.RoughObject`) is what the planner knows: the vision
+        estimate, centred at the rough position the environment will aim at; a backend that
+        plans (the hand) plans on it.
         """
         ...
 

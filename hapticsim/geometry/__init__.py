@@ -1,4 +1,5 @@
-"""Superquadric geometry: the model, its functions, parametrisations, volumes and meshes.
+"""Superquadric geometry: the model, its functions, parametrisations, volumes and meshes, and
+:class:`MeshSolid`, the solid of a closed triangle mesh (a mesh ground truth).
 
 The bottom layer of hapticsim: depends on numpy only (trimesh is imported lazily for meshes).
 """
@@ -11,6 +12,7 @@ from hapticsim.geometry.functions import (
     signed_power,
     volume,
 )
+from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.parametrization import natural, uniform
 from hapticsim.geometry.rotations import (
     matrix_to_quaternion,
@@ -22,6 +24,7 @@ from hapticsim.geometry.rotations import (
 from hapticsim.geometry.superquadric import N_PARAMS, PARAM_NAMES, Superquadric
 
 __all__ = [
+    "MeshSolid",
     "N_PARAMS",
     "PARAM_NAMES",
     "Superquadric",

@@ -13,6 +13,7 @@ For a contact between a fingertip sphere and the object:
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from dataclasses import dataclass
 
 import mujoco
@@ -61,7 +62,10 @@ class ContactState:
 
 
 def read_contacts(
-    model: mujoco.MjModel, data: mujoco.MjData, hand: Hand, object_geom_id: int
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    hand: Hand,
+    object_geom_id: int | Collection[int],
 ) -> ContactState:
     """Collect the fingertip/object contacts of the current state (call after a step).
 
@@ -71,7 +75,8 @@ def read_contacts(
     Args:
         model, data: MuJoCo model and data.
         hand: hand ids of `model`.
-        object_geom_id: id of the object geom.
+        object_geom_id: id of the object geom, or the ids of all its geoms (the convex parts
+            of a non-convex mesh).
 
     Returns:
         The contact state.
@@ -87,9 +92,10 @@ def read_contacts(
     tip_finger, hand_geoms = hand.tip_finger_of_geom, hand.hand_geom_set
     other = table = 0
     tips: list[tuple[int, int, bool]] = []
+    objects = {object_geom_id} if isinstance(object_geom_id, int) else set(object_geom_id)
     for i, (g0, g1) in enumerate(con.geom.tolist()):
-        if g0 == object_geom_id or g1 == object_geom_id:
-            first = g0 == object_geom_id
+        if g0 in objects or g1 in objects:
+            first = g0 in objects
             finger = tip_finger.get(g1 if first else g0, -1)
             if finger < 0:
                 other += 1

@@ -1,9 +1,10 @@
-"""A scene: the hand, a table and one superquadric object, composed with ``mujoco.MjSpec``.
+"""A scene: the hand, a table and one object, composed with ``mujoco.MjSpec``.
 
-The object is a static body (the paper keeps it fixed during exploration) whose collision geom is
-the superquadric meshed in its body frame (:mod:`~hapticsim.sim.object_mesh`: the hull of the
-vertices of :meth:`Superquadric.to_mesh` in both parametrisations); MuJoCo collides with the
-mesh's convex hull (``maxhullvert`` left at its default). The object stands on a thin post
+The object is a static body (the paper keeps it fixed during exploration) whose collision geoms
+come from :func:`~hapticsim.sim.object_mesh.collision_parts`: a superquadric meshed in its body
+frame (the hull of the vertices of :meth:`Superquadric.to_mesh` in both parametrisations), a
+convex mesh as it is, or the convex parts of a non-convex mesh; MuJoCo collides with each mesh's
+convex hull (``maxhullvert`` left at its default). The object stands on a thin post
 (the *stand*) :data:`STAND_HEIGHT` above the table, so that the fingers can reach around its
 bottom edges. The ground truth travels with the scene (:attr:`Scene.truth`).
 """
@@ -11,6 +12,7 @@ bottom edges. The ground truth travels with the scene (:attr:`Scene.truth`).
 from __future__ import annotations
 
 import copy
+import hashlib
 from collections import OrderedDict
 from dataclasses import dataclass, field
 
@@ -20,12 +22,17 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.errors import SimulationError
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.geometry import Superquadric, matrix_to_quaternion
+from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
 from hapticsim.sim.hand import Hand
 from hapticsim.sim.models import model_path
-from hapticsim.sim.object_mesh import object_vertices
+from hapticsim.sim.object_mesh import (
+    CollisionParts,
+    collision_parts,
+    support_foot,
+    support_radius,
+)
 from hapticsim.sim.workspace import Workspace
 
 Array = NDArray[np.float64]
@@ -79,13 +86,15 @@ class Scene:
 
     Attributes:
         model: the compiled ``mujoco.MjModel``.
-        truth: the object's superquadric in the world frame (ground truth).
+        truth: the object in the world frame (ground truth): a superquadric or a mesh solid.
         hand: ids and kinematics of the hand.
-        object_geom_id: id of the object's mesh geom.
+        object_geom_id: id of the object's (first) mesh geom.
         object_body_id: id of the object's body.
         stand_geom_id: id of the stand (post) under the object.
         table_top_z: height of the table top [m, world].
         config: the build configuration.
+        object_geom_ids: ids of all the object's geoms (convex parts of a non-convex mesh).
+        collision_method: how the object's collision geometry was made.
     """
 
     model: mujoco.MjModel
@@ -96,6 +105,12 @@ class Scene:
     stand_geom_id: int
     table_top_z: float
     config: SceneConfig
+    object_geom_ids: tuple[int, ...] = ()
+    collision_method: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.object_geom_ids:
+            object.__setattr__(self, "object_geom_ids", (self.object_geom_id,))
 
 
 @dataclass(frozen=True)
@@ -118,29 +133,29 @@ class _Layout:
         return [float(self.foot[0]), float(self.foot[1]), self.table_top_z]
 
 
-def _layout(truth: Superquadric, vertices_body: Array) -> _Layout:
-    """The stand under the lowest vertex nearest the centre (2 mm into the object), the table
-    :data:`STAND_HEIGHT` below the object's lowest point, the overview camera looking at it."""
-    vertices_world = vertices_body @ truth.rotation.T + truth.center
+def _layout(truth: Superquadric | MeshSolid, collision: CollisionParts) -> _Layout:
+    """The stand under the object's lowest point nearest the centre (2 mm into the object;
+    :func:`~hapticsim.sim.object_mesh.support_foot`), the table :data:`STAND_HEIGHT` below the
+    object's lowest point, the overview camera looking at it."""
+    vertices_world = collision.vertices_world
     low_z = float(vertices_world[:, 2].min())
-    low = vertices_world[vertices_world[:, 2] < low_z + 1e-3]
-    foot = low[np.argmin(np.linalg.norm(low[:, :2] - truth.center[:2], axis=1))]
+    foot = support_foot(truth, vertices_world)
     eye = truth.center + np.array([0.32, -0.30, 0.20])
     forward = (truth.center - eye) / np.linalg.norm(truth.center - eye)
     right = np.cross(forward, [0.0, 0.0, 1.0])
     right /= np.linalg.norm(right)
     return _Layout(
         foot=foot, table_top_z=low_z - STAND_HEIGHT,
-        stand_radius=min(STAND_RADIUS, 0.3 * float(np.min(truth.a[:2]))), eye=eye,
+        stand_radius=support_radius(truth, STAND_RADIUS), eye=eye,
         xyaxes=np.concatenate([right, np.cross(right, forward)]),
     )  # fmt: skip
 
 
-def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene:
+def build_scene(truth: Superquadric | MeshSolid, config: SceneConfig | None = None) -> Scene:
     """Compose hand + table + object into a compiled model.
 
     Args:
-        truth: the object, posed in the world frame.
+        truth: the object, posed in the world frame (a superquadric or a mesh solid).
         config: build options (defaults: :class:`SceneConfig`).
 
     Returns:
@@ -148,35 +163,41 @@ def build_scene(truth: Superquadric, config: SceneConfig | None = None) -> Scene
         from ``scene.model``.
 
     Raises:
-        SimulationError: the object is too large for the hand or outside its workspace.
+        SimulationError: the object is too large for the hand or outside its workspace, or a
+            non-convex mesh cannot be decomposed into convex parts.
     """
-    return _compile(superquadric_arg(truth, "truth"), config)[0]
+    return _compile(truth_arg(truth, "truth"), config)[0]
 
 
-def _compile(truth: Superquadric, config: SceneConfig | None) -> tuple[Scene, Array]:
-    """The scene and the object's mesh vertices (body frame)."""
+def _compile(
+    truth: Superquadric | MeshSolid, config: SceneConfig | None
+) -> tuple[Scene, CollisionParts]:
+    """The scene and the object's collision parts (body frame)."""
     config = SceneConfig() if config is None else config
     config.workspace.check_object(truth)
 
     spec = mujoco.MjSpec.from_file(str(model_path("hand.xml")))
     spec.option.timestep = config.timestep
 
-    vertices = object_vertices(truth, config.mesh_resolution)
-    layout = _layout(truth, vertices)
-    spec.add_mesh(name=OBJECT_NAME, uservert=vertices.ravel().tolist())
+    collision = collision_parts(truth, config.mesh_resolution)
+    layout = _layout(truth, collision)
     body = spec.worldbody.add_body(
-        name=OBJECT_NAME, pos=truth.center.tolist(), quat=truth.quaternion.tolist()
-    )
-    body.add_geom(
         name=OBJECT_NAME,
-        type=mujoco.mjtGeom.mjGEOM_MESH,
-        meshname=OBJECT_NAME,
-        contype=1,
-        conaffinity=2,
-        condim=3,
-        friction=[config.friction, 0.005, 0.0001],
-        rgba=[0.35, 0.55, 0.85, 1.0],
+        pos=collision.body_position.tolist(),
+        quat=matrix_to_quaternion(collision.body_rotation).tolist(),
     )
+    for k, vertices in enumerate(collision.parts):
+        spec.add_mesh(name=_part_name(k), uservert=vertices.ravel().tolist())
+        body.add_geom(
+            name=_part_name(k),
+            type=mujoco.mjtGeom.mjGEOM_MESH,
+            meshname=_part_name(k),
+            contype=1,
+            conaffinity=2,
+            condim=3,
+            friction=[config.friction, 0.005, 0.0001],
+            rgba=[0.35, 0.55, 0.85, 1.0],
+        )
     spec.worldbody.add_geom(
         name=STAND_NAME,
         type=mujoco.mjtGeom.mjGEOM_CYLINDER,
@@ -195,15 +216,25 @@ def _compile(truth: Superquadric, config: SceneConfig | None) -> tuple[Scene, Ar
     spec.worldbody.add_camera(
         name=CAMERA_NAME, pos=layout.eye.tolist(), xyaxes=layout.xyaxes.tolist(), fovy=45.0
     )
-    return _scene(spec.compile(), truth, layout, config), vertices
+    return _scene(spec.compile(), truth, layout, config, collision), collision
+
+
+def _part_name(k: int) -> str:
+    """Name of the mesh and geom of the object's k-th convex part."""
+    return OBJECT_NAME if k == 0 else f"{OBJECT_NAME}_{k}"
 
 
 def _scene(
-    model: mujoco.MjModel, truth: Superquadric, layout: _Layout, config: SceneConfig
+    model: mujoco.MjModel,
+    truth: Superquadric | MeshSolid,
+    layout: _Layout,
+    config: SceneConfig,
+    collision: CollisionParts,
 ) -> Scene:
     def ident(obj: mujoco.mjtObj, name: str) -> int:
         return int(mujoco.mj_name2id(model, obj, name))
 
+    geoms = tuple(ident(mujoco.mjtObj.mjOBJ_GEOM, _part_name(k)) for k in range(len(collision.parts)))
     return Scene(
         model=model,
         truth=truth,
@@ -213,14 +244,17 @@ def _scene(
         stand_geom_id=ident(mujoco.mjtObj.mjOBJ_GEOM, STAND_NAME),
         table_top_z=layout.table_top_z,
         config=config,
+        object_geom_ids=geoms,
+        collision_method=collision.method,
     )
 
 
-def _moved(scene: Scene, vertices_body: Array, truth: Superquadric) -> Scene:
+def _moved(scene: Scene, collision: CollisionParts, truth: Superquadric) -> Scene:
     """A copy of `scene` with its object at the pose of `truth` (same body-frame shape): the
     object body, the stand, the table and the camera move; nothing is compiled again."""
     scene.config.workspace.check_object(truth)
-    layout = _layout(truth, vertices_body)
+    collision = CollisionParts(collision.parts, truth.center, truth.rotation, collision.method)
+    layout = _layout(truth, collision)
     model = copy.copy(scene.model)
     model.body_pos[scene.object_body_id] = truth.center
     model.body_quat[scene.object_body_id] = truth.quaternion
@@ -233,10 +267,14 @@ def _moved(scene: Scene, vertices_body: Array, truth: Superquadric) -> Scene:
     mujoco.mju_mat2Quat(quat, np.column_stack([x, y, np.cross(x, y)]).ravel())
     model.cam_pos[camera] = layout.eye
     model.cam_quat[camera] = quat
-    return _scene(model, truth, layout, scene.config)
+    return _scene(model, truth, layout, scene.config, collision)
 
 
-def _shape_key(truth: Superquadric) -> bytes:
+def _shape_key(truth: Superquadric | MeshSolid) -> bytes:
+    if isinstance(truth, MeshSolid):  # the same mesh in the same place
+        digest = hashlib.sha1(np.ascontiguousarray(truth.vertices).tobytes())
+        digest.update(np.ascontiguousarray(truth.faces).tobytes())
+        return b"mesh:" + digest.digest()
     return np.concatenate([truth.a, truth.eps, truth.taper]).tobytes()
 
 
@@ -260,21 +298,23 @@ class SceneCache:
 
     def __init__(self, capacity: int = 8) -> None:
         self.capacity = positive_int(capacity, "capacity")
-        self._entries: OrderedDict[tuple[object, ...], tuple[Scene, Array]] = OrderedDict()
+        self._entries: OrderedDict[tuple[object, ...], tuple[Scene, CollisionParts]] = (
+            OrderedDict()
+        )
         self.hits = 0
         self.misses = 0
 
     def __len__(self) -> int:
         return len(self._entries)
 
-    def scene(self, truth: Superquadric, config: SceneConfig | None = None) -> Scene:
+    def scene(self, truth: Superquadric | MeshSolid, config: SceneConfig | None = None) -> Scene:
         """The scene of `truth` under `config` (see :func:`build_scene`), from the cache when
         the same body-frame shape was built before.
 
         Raises:
             SimulationError: the object is too large for the hand or outside its workspace.
         """
-        truth = superquadric_arg(truth, "truth")
+        truth = truth_arg(truth, "truth")
         config = SceneConfig() if config is None else config
         key = (_shape_key(truth), _config_key(config))
         entry = self._entries.get(key)
@@ -287,10 +327,10 @@ class SceneCache:
             return entry[0]
         self.hits += 1
         self._entries.move_to_end(key)
-        scene, vertices = entry
-        if scene.truth == truth:
+        scene, collision = entry
+        if isinstance(truth, MeshSolid) or scene.truth == truth:  # a mesh key holds its pose
             return scene
-        return _moved(scene, vertices, truth)
+        return _moved(scene, collision, truth)
 
     def clear(self) -> None:
         """Drop every cached scene."""

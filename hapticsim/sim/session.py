@@ -17,7 +17,7 @@ import numpy as np
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
-from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject, vision_estimate
@@ -35,7 +35,7 @@ class Exploration:
     """What an exploration produced.
 
     Attributes:
-        truth: the true object [world].
+        truth: the true object [world]: a superquadric or a mesh solid.
         rough: what the controllers knew.
         arrays: recorded contacts (see :meth:`Recorder.arrays`): ``points_clean``,
             ``normals_clean``, ``finger``, ``force``, ``time``, ``pattern``, ``dist``.
@@ -49,7 +49,7 @@ class Exploration:
         stop_reason: why fewer than `requested` were gathered (None when all were).
     """
 
-    truth: Superquadric
+    truth: Superquadric | MeshSolid
     rough: RoughObject
     arrays: dict[str, np.ndarray]
     pattern_kinds: tuple[str, ...]
@@ -78,7 +78,7 @@ class Exploration:
 
 
 def run_exploration(
-    truth: Superquadric,
+    truth: Superquadric | MeshSolid,
     strategy: str = "paper",
     count: int = DEFAULT_COUNT,
     rng: np.random.Generator | int | None = 0,
@@ -91,7 +91,7 @@ def run_exploration(
     """Explore an object with the hand and return the recorded (clean) contacts.
 
     Args:
-        truth: the object, posed in the world.
+        truth: the object, posed in the world (a superquadric or a mesh solid).
         strategy: a registered strategy name (:func:`~hapticsim.sim.strategies.strategy_names`).
         count: contacts to gather, >= :data:`MIN_CONTACTS`.
         rng: seed or generator (the rough object and the strategy's random choices).
@@ -110,7 +110,7 @@ def run_exploration(
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or fewer than :data:`MIN_CONTACTS` contacts were gathered.
     """
-    truth = superquadric_arg(truth, "truth")
+    truth = truth_arg(truth, "truth")
     run_strategy = get_strategy(strategy)
     count = positive_int(count, "count", minimum=MIN_CONTACTS)
     gen = as_generator(rng)

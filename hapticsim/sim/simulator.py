@@ -130,7 +130,7 @@ class Simulator:
         """The fingertip contacts of the current state (read from MuJoCo when first asked for
         after a tick that did not read them)."""
         if self._contacts_stale:
-            object_id = self.scene.object_geom_id
+            object_id = self.scene.object_geom_ids
             self._contacts = read_contacts(self.model, self.data, self.hand, object_id)
             self._contacts_stale = False
         return self._contacts
@@ -170,7 +170,7 @@ class Simulator:
         self._palm_reached = True
         self.steps = 0
         mujoco.mj_forward(m, d)
-        self._contacts = read_contacts(m, d, hand, self.scene.object_geom_id)
+        self._contacts = read_contacts(m, d, hand, self.scene.object_geom_ids)
         self._contacts_stale = False
 
     def place(

@@ -11,6 +11,7 @@ from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.mujoco_backend import MujocoBackend
 from hapticsim.envs.touch import Touch, encode_touch
+from hapticsim.sim.rough import vision_estimate
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
 
@@ -18,7 +19,9 @@ FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
 @pytest.fixture(scope="module")
 def backend() -> MujocoBackend:
     b = MujocoBackend(noise=0.0)
-    b.reset(get_body("cube"), np.random.default_rng(0), np.array([0.002, -0.001, 0.0]))
+    cube = get_body("cube")
+    rough = vision_estimate(cube, 0).moved(cube.center + np.array([0.002, -0.001, 0.0]))
+    b.reset(cube, np.random.default_rng(0), rough)
     return b
 
 

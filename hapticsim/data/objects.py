@@ -1,0 +1,392 @@
+"""Objects from anywhere: body names, superquadric files, random shapes and mesh files.
+
+An *object spec* names where an object comes from; :meth:`ObjectSpec.resolve` turns it into the
+ground truth posed in the world: a :class:`~hapticsim.geometry.Superquadric` or, for a mesh file,
+a :class:`~hapticsim.geometry.mesh_solid.MeshSolid`. The kinds (:data:`OBJECT_KINDS`):
+
+==================  ==========================================================================
+``body``            one of the paper's bodies by name (:data:`~hapticsim.data.bodies.BODY_NAMES`)
+``superquadric``    a superquadric JSON file (SPEC §6; a bare superquadric or a fit result)
+``random``          a random superquadric without taper, drawn from the seed
+``random_tapered``  a random tapered superquadric, drawn from the seed
+``mesh``            a mesh file (STL, OBJ, PLY or OFF, read by trimesh), metres times ``scale``
+==================  ==========================================================================
+
+Placement: a superquadric stands where its parameters put it (bodies and random shapes at the
+origin); a mesh is moved so that its centroid is at the origin. A :class:`Pose` places the object
+instead: ``x_world = R @ (scale * x_file) + t``, applied to the file's own coordinates (a mesh is
+then *not* re-centred). A mesh must be one closed (watertight) body; its faces are oriented
+outward if they are not.
+
+Nothing here imports trimesh until a mesh is read or written.
+"""
+
+from __future__ import annotations
+
+import io as _io
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import as_generator, finite_array, finite_float
+from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import Superquadric, quaternion_to_matrix
+from hapticsim.geometry.mesh_solid import MeshSolid
+
+Array = NDArray[np.float64]
+
+#: Object kinds an :class:`ObjectSpec` can name.
+OBJECT_KINDS: tuple[str, ...] = ("body", "superquadric", "random", "random_tapered", "mesh")
+#: Names of the random kinds (drawn from a seed).
+RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered")
+#: Mesh file formats (suffixes) read through trimesh.
+MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off")
+#: Default ranges of random superquadrics: semi-axes [m], exponents, tapers.
+RANDOM_A_RANGE: tuple[float, float] = (0.02, 0.05)
+RANDOM_EPS_RANGE: tuple[float, float] = (0.1, 1.0)
+RANDOM_TAPER_RANGE: tuple[float, float] = (-0.4, 0.4)
+
+#: One line naming every object kind, for help texts.
+OBJECT_HELP: str = (
+    "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric .json file, "
+    "random / random_tapered (drawn from the seed), or a mesh file (.stl, .obj, .ply, .off; "
+    "metres unless scaled)"
+)
+
+Truth = Superquadric | MeshSolid
+
+
+def _check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
+    try:
+        pair = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        pair = ()
+    if len(pair) != 2 or not all(np.isfinite(pair)) or not low <= pair[0] <= pair[1] <= high:
+        raise InvalidInputError(
+            f"`{name}` must be a (low, high) pair with {low} <= low <= high <= {high}, "
+            f"got {value!r}"
+        )
+    return pair  # type: ignore[return-value]
+
+
+def random_superquadric(
+    rng: np.random.Generator | int | None,
+    tapered: bool = False,
+    a_range: tuple[float, float] = RANDOM_A_RANGE,
+    eps_range: tuple[float, float] = RANDOM_EPS_RANGE,
+    taper_range: tuple[float, float] = RANDOM_TAPER_RANGE,
+) -> Superquadric:
+    """A random superquadric at the origin, axis-aligned.
+
+    Draws, in this order, the semi-axes (3, uniform in `a_range` [m]), the exponents (2, uniform
+    in `eps_range`) and, when `tapered`, the tapers (2, uniform in `taper_range`).
+
+    Args:
+        rng: seed or generator.
+        tapered: draw tapers (else none).
+        a_range: (low, high) semi-axis range [m].
+        eps_range: (low, high) exponent range, within [0.1, 2].
+        taper_range: (low, high) taper range, within [-1, 1].
+    """
+    gen = as_generator(rng)
+    a_lo, a_hi = _check_range("a_range", a_range, 1e-4, 10.0)
+    e_lo, e_hi = _check_range("eps_range", eps_range, EPS_MIN, EPS_MAX)
+    t_lo, t_hi = _check_range("taper_range", taper_range, -TAPER_MAX, TAPER_MAX)
+    a = gen.uniform(a_lo, a_hi, size=3)
+    eps = gen.uniform(e_lo, e_hi, size=2)
+    taper = gen.uniform(t_lo, t_hi, size=2) if tapered else np.zeros(2)
+    return Superquadric(a=a, eps=eps, taper=taper)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A rigid placement ``x -> rotation @ x + position``.
+
+    Attributes:
+        position: (3,) float [m, world].
+        rotation: (3, 3) float, a proper rotation (identity by default).
+    """
+
+    position: Array
+    rotation: Array = field(default_factory=lambda: np.eye(3))
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", finite_array(self.position, "position", (3,)))
+        rot = finite_array(self.rotation, "rotation", (3, 3))
+        if not np.allclose(rot.T @ rot, np.eye(3), atol=1e-6) or np.linalg.det(rot) < 0:
+            raise InvalidInputError("`rotation` must be a proper rotation matrix")
+        object.__setattr__(self, "rotation", rot)
+
+    @classmethod
+    def parse(cls, text: str) -> Pose:
+        """A pose from ``"x,y,z"`` [m] or ``"x,y,z,qw,qx,qy,qz"`` (unit quaternion, w first).
+
+        Raises:
+            InvalidInputError: not 3 or 7 comma-separated numbers, or a zero quaternion.
+        """
+        try:
+            values = [float(v) for v in str(text).replace(" ", "").split(",")]
+        except ValueError:
+            values = []
+        if len(values) not in (3, 7) or not all(np.isfinite(values)):
+            raise InvalidInputError(
+                f"`pose` must be 'x,y,z' [m] or 'x,y,z,qw,qx,qy,qz', got {text!r}"
+            )
+        if len(values) == 3:
+            return cls(np.array(values))
+        q = np.array(values[3:])
+        if np.linalg.norm(q) < 1e-9:
+            raise InvalidInputError(f"`pose` quaternion must be non-zero, got {values[3:]}")
+        return cls(np.array(values[:3]), quaternion_to_matrix(q / np.linalg.norm(q)))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready ``{"position": [...], "rotation": [[...], ...]}``."""
+        return {"position": self.position.tolist(), "rotation": self.rotation.tolist()}
+
+
+def _kind_of(source: str) -> str:
+    from hapticsim.data.bodies import BODY_NAMES
+
+    if source in BODY_NAMES:
+        return "body"
+    if source in RANDOM_KINDS:
+        return source
+    suffix = Path(source).suffix.lower()
+    if suffix == ".json":
+        return "superquadric"
+    if suffix in MESH_SUFFIXES:
+        return "mesh"
+    if suffix:
+        raise InvalidInputError(
+            f"unknown object file format {suffix!r} ({source}): give a superquadric .json or a "
+            f"mesh file ({', '.join(s.lstrip('.').upper() for s in MESH_SUFFIXES)})"
+        )
+    raise InvalidInputError(f"unknown object {source!r}: give {OBJECT_HELP}")
+
+
+@dataclass(frozen=True)
+class ObjectSpec:
+    """Where an object comes from, and how it is scaled and placed.
+
+    Attributes:
+        source: a body name, ``"random"``, ``"random_tapered"``, or the path of a superquadric
+            ``.json`` or a mesh file (``.stl``, ``.obj``, ``.ply``, ``.off``).
+        scale: factor from the file's units to metres (> 0): 0.001 for a mesh in millimetres.
+        pose: placement of the object's own frame in the world (module docstring); None keeps
+            a superquadric's own pose and puts a mesh's centroid at the origin.
+        kind: one of :data:`OBJECT_KINDS`, derived from `source`.
+
+    Raises:
+        InvalidInputError: an unknown name or file format (the message lists the kinds), a
+            missing file, or a bad scale.
+    """
+
+    source: str
+    scale: float = 1.0
+    pose: Pose | None = None
+    kind: str = field(init=False)
+
+    def __post_init__(self) -> None:
+        if isinstance(self.source, Path):
+            object.__setattr__(self, "source", str(self.source))
+        if not isinstance(self.source, str) or not self.source:
+            raise InvalidInputError(f"`source` must be a non-empty string, got {self.source!r}")
+        object.__setattr__(self, "scale", finite_float(self.scale, "scale"))
+        if self.scale <= 0:
+            raise InvalidInputError(f"`scale` must be > 0, got {self.scale!r}")
+        if self.pose is not None and not isinstance(self.pose, Pose):
+            raise InvalidInputError(f"`pose` must be a Pose or None, got {self.pose!r}")
+        kind = _kind_of(self.source)
+        if kind in ("superquadric", "mesh") and not Path(self.source).is_file():
+            raise InvalidInputError(f"object file not found: {self.source}")
+        object.__setattr__(self, "kind", kind)
+
+    @property
+    def name(self) -> str:
+        """A short label: the body or kind name, or the file's stem."""
+        return Path(self.source).stem if self.kind in ("superquadric", "mesh") else self.source
+
+    @property
+    def is_random(self) -> bool:
+        """True for the kinds drawn from a seed."""
+        return self.kind in RANDOM_KINDS
+
+    def resolve(self, rng: np.random.Generator | int | None = None) -> Truth:
+        """The object posed in the world.
+
+        Args:
+            rng: seed or generator of the random kinds (unused by the others).
+
+        Returns:
+            a Superquadric, or a MeshSolid for a mesh file.
+
+        Raises:
+            InvalidInputError: an unreadable, empty, open (not watertight) or multi-body mesh,
+                or a malformed superquadric file.
+        """
+        if self.kind == "mesh":
+            solid = load_mesh(self.source, self.scale)
+            if self.pose is None:
+                return solid.transformed(np.eye(3), -solid.centroid)
+            return solid.transformed(self.pose.rotation, self.pose.position)
+        if self.kind == "body":
+            from hapticsim.data.bodies import get_body
+
+            shape = get_body(self.source)
+        elif self.kind == "superquadric":
+            shape = Superquadric.from_json(self.source)
+        else:
+            shape = random_superquadric(rng, tapered=self.kind == "random_tapered")
+        if self.scale != 1.0:
+            shape = shape.replace(a=shape.a * self.scale, center=shape.center * self.scale)
+        if self.pose is not None:
+            shape = shape.transformed(self.pose.rotation, self.pose.position)
+        return shape
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description (kind, source, scale, pose)."""
+        return {
+            "kind": self.kind,
+            "source": self.source,
+            "scale": self.scale,
+            "pose": None if self.pose is None else self.pose.to_dict(),
+        }
+
+
+def load_mesh(path: str | Path, scale: float = 1.0) -> MeshSolid:
+    """Read a closed mesh file through trimesh, in the file's coordinates times `scale` [m].
+
+    Vertices are merged and degenerate faces dropped; faces are re-oriented outward when their
+    winding is inconsistent or inward.
+
+    Args:
+        path: an ``.stl``, ``.obj``, ``.ply`` or ``.off`` file.
+        scale: factor to metres (> 0).
+
+    Raises:
+        InvalidInputError: a missing file, an unknown format, a file trimesh cannot read, an
+            empty mesh, a mesh that is not watertight, or one of several separate bodies.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in MESH_SUFFIXES:
+        raise InvalidInputError(
+            f"unknown mesh format {suffix or '(no suffix)'!r} ({path}): mesh files must be "
+            f"{', '.join(s.lstrip('.').upper() for s in MESH_SUFFIXES)}"
+        )
+    if not path.is_file():
+        raise InvalidInputError(f"mesh file not found: {path}")
+    factor = finite_float(scale, "scale")
+    if factor <= 0:
+        raise InvalidInputError(f"`scale` must be > 0, got {scale!r}")
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=True)
+    except Exception as exc:  # trimesh raises many types for malformed files
+        raise InvalidInputError(f"cannot read mesh file {path}: {exc}") from exc
+    faces = getattr(mesh, "faces", None)
+    if not isinstance(mesh, trimesh.Trimesh) or faces is None or len(faces) == 0:
+        raise InvalidInputError(f"mesh file {path} is empty: it holds no triangles")
+    mesh.update_faces(mesh.nondegenerate_faces())
+    mesh.remove_unreferenced_vertices()
+    if len(mesh.faces) < 4:
+        raise InvalidInputError(
+            f"mesh file {path} holds {len(mesh.faces)} non-degenerate triangles: not a solid"
+        )
+    if not mesh.is_watertight:
+        open_edges = _open_edge_count(mesh)
+        raise InvalidInputError(
+            f"mesh {path} is not watertight ({open_edges} open edges): the object must be a "
+            "closed surface"
+        )
+    if mesh.body_count > 1:
+        raise InvalidInputError(
+            f"mesh {path} holds {mesh.body_count} separate bodies: give one object per file"
+        )
+    if not mesh.is_winding_consistent:
+        trimesh.repair.fix_winding(mesh)
+    if mesh.volume < 0:
+        mesh.invert()
+    return MeshSolid(np.asarray(mesh.vertices, dtype=np.float64) * factor, np.asarray(mesh.faces))
+
+
+def _open_edge_count(mesh: Any) -> int:
+    edges = np.sort(np.asarray(mesh.edges), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    return int(np.count_nonzero(counts == 1))
+
+
+def stl_bytes(solid: MeshSolid) -> bytes:
+    """Binary STL of a mesh solid (its coordinates as they are: world frame, metres)."""
+    buf = _io.BytesIO()
+    solid.to_trimesh().export(buf, file_type="stl")
+    return buf.getvalue()
+
+
+def write_stl(path: str | Path, solid: MeshSolid) -> Path:
+    """Write a mesh solid as binary STL through a temporary file and a rename.
+
+    Raises:
+        InvalidInputError: the path cannot be written (the message names it).
+    """
+    from hapticsim._files import atomic_write
+
+    data = stl_bytes(solid)
+    return atomic_write(path, lambda fh: fh.write(data), "wb")
+
+
+def as_spec(value: ObjectSpec | str | Path) -> ObjectSpec:
+    """An :class:`ObjectSpec` from itself, a name or a path."""
+    if isinstance(value, ObjectSpec):
+        return value
+    if isinstance(value, (str, Path)):
+        return ObjectSpec(str(value))
+    raise InvalidInputError(
+        f"an object must be an ObjectSpec, a name or a file path, got {type(value).__name__}"
+    )
+
+
+def resolve_object(
+    value: ObjectSpec | str | Path | Superquadric | MeshSolid,
+    rng: np.random.Generator | int | None = None,
+) -> Truth:
+    """The ground truth of any object description: a Superquadric or MeshSolid as it is, or a
+    spec, name or path resolved by :meth:`ObjectSpec.resolve`."""
+    if isinstance(value, (Superquadric, MeshSolid)):
+        return value
+    return as_spec(value).resolve(rng)
+
+
+def truth_size(truth: Truth) -> float:
+    """The length [m] relative noise is scaled by (SPEC §5): ``mean(a)`` of a superquadric,
+    :attr:`MeshSolid.size` (mean principal half-extent) of a mesh."""
+    if isinstance(truth, Superquadric):
+        return float(np.mean(truth.a))
+    if isinstance(truth, MeshSolid):
+        return truth.size
+    raise InvalidInputError(
+        f"`truth` must be a Superquadric or MeshSolid, got {type(truth).__name__}"
+    )
+
+
+__all__ = [
+    "MESH_SUFFIXES",
+    "OBJECT_HELP",
+    "OBJECT_KINDS",
+    "RANDOM_KINDS",
+    "ObjectSpec",
+    "Pose",
+    "Truth",
+    "as_spec",
+    "load_mesh",
+    "random_superquadric",
+    "resolve_object",
+    "stl_bytes",
+    "truth_size",
+    "write_stl",
+]
