@@ -234,7 +234,8 @@ def _scene(
     def ident(obj: mujoco.mjtObj, name: str) -> int:
         return int(mujoco.mj_name2id(model, obj, name))
 
-    geoms = tuple(ident(mujoco.mjtObj.mjOBJ_GEOM, _part_name(k)) for k in range(len(collision.parts)))
+    parts = range(len(collision.parts))
+    geoms = tuple(ident(mujoco.mjtObj.mjOBJ_GEOM, _part_name(k)) for k in parts)
     return Scene(
         model=model,
         truth=truth,
@@ -298,9 +299,7 @@ class SceneCache:
 
     def __init__(self, capacity: int = 8) -> None:
         self.capacity = positive_int(capacity, "capacity")
-        self._entries: OrderedDict[tuple[object, ...], tuple[Scene, CollisionParts]] = (
-            OrderedDict()
-        )
+        self._entries: OrderedDict[tuple[object, ...], tuple[Scene, CollisionParts]] = OrderedDict()
         self.hits = 0
         self.misses = 0
 
