@@ -124,9 +124,87 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         results=args.results,
         figures_dir=args.figures_dir,
         progress=not args.quiet,
+        scheduler=args.scheduler,
     )
     _print_json(summary)
     return 0
+
+
+def _cmd_suite_list(args: argparse.Namespace) -> int:
+    from hapticsim.suites import list_suites
+
+    _print_json([s.summary() for s in list_suites()])
+    return 0
+
+
+def _cmd_suite_run(args: argparse.Namespace) -> int:
+    from hapticsim.suites.runner import run_suite, summary_line
+
+    results = run_suite(
+        args.name, args.out, workers=args.workers, scheduler=args.scheduler,
+        timeout=args.scheduler_timeout, fitter=args.fitter, policy=args.policy,
+        cases=args.cases, progress=not args.quiet, command=["hapticsim", *args.argv],
+    )  # fmt: skip
+    failed = [c for c in results["cases"] if c["status"] != "ok"]
+    if failed:
+        sys.stderr.write(
+            f"hapticsim suite run: {len(failed)} of {len(results['cases'])} cases failed "
+            f"(first: {failed[0]['id']}: {failed[0]['error']})\n"
+        )
+    _print_json({**summary_line(results), "out": str(args.out)})
+    return 0
+
+
+def _cmd_suite_compare(args: argparse.Namespace) -> int:
+    from hapticsim.suites import compare_results
+
+    comparison = compare_results(args.baseline, args.results, args.tolerance, args.alpha)
+    if args.json:
+        _print_json(comparison.to_dict())
+    else:
+        sys.stdout.write(comparison.table(all_groups=not args.changed) + "\n")
+    return comparison.exit_code
+
+
+def _add_suite_parser(sub: Any) -> None:
+    """``hapticsim suite list | run | compare`` (regression suites, SPEC §6)."""
+    suite = sub.add_parser(
+        "suite", help="regression suites of reconstruction quality: list, run, compare"
+    )
+    cmds = suite.add_subparsers(dest="suite_command", required=True, parser_class=_Parser)
+    p = cmds.add_parser("list", help="the shipped suites: names, versions, case counts (JSON)")
+    p.set_defaults(func=_cmd_suite_list)
+
+    p = cmds.add_parser("run", help="run a suite's cases and write the results JSON")
+    p.add_argument("name", help="a suite (hapticsim suite list), or a suite .toml file")
+    p.add_argument("--out", required=True, help="results JSON (written atomically)")
+    engine = p.add_mutually_exclusive_group()
+    engine.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    engine.add_argument(
+        "--scheduler", default=None, help="run on a Dask cluster: tcp://host:port or local:N"
+    )
+    p.add_argument(
+        "--scheduler-timeout", type=float, default=10.0, metavar="S",
+        help="seconds to wait for the Dask scheduler (default 10)",
+    )  # fmt: skip
+    p.add_argument("--fitter", default=None, help="MODULE:FUNCTION, fit(points, normals)")
+    p.add_argument("--policy", default=None, help="MODULE:CLASS with the baseline policies' API")
+    p.add_argument("--cases", default=None, help="only cases whose id matches, e.g. '*/nH/*'")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_suite_run)
+
+    p = cmds.add_parser(
+        "compare", help="pair two runs' cases; exit 0 no regression, 1 regression, 2 bad input"
+    )
+    p.add_argument("baseline", help="results JSON of the baseline")
+    p.add_argument("results", help="results JSON to check")
+    p.add_argument(
+        "--tolerance", type=float, default=0.01, help="harmless rise of a group's mean epsilon"
+    )
+    p.add_argument("--alpha", type=float, default=0.01, help="level of the paired Wilcoxon test")
+    p.add_argument("--changed", action="store_true", help="list only groups that changed")
+    p.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    p.set_defaults(func=_cmd_suite_compare)
 
 
 # ----------------------------------------------------------------------------- parser
@@ -185,7 +263,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="runs/reproduce", help="output directory")
     p.add_argument("--runs", type=int, default=10, help="runs (data sets) per setting (default 10)")
     p.add_argument("--seed", type=_seed, default=0)
-    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    workers = p.add_mutually_exclusive_group()
+    workers.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    workers.add_argument(
+        "--scheduler", default=None, help="run on a Dask cluster: tcp://host:port or local:N"
+    )
     p.add_argument(
         "--results", default=None, help="also write the Markdown report here (e.g. RESULTS.md)"
     )
@@ -194,6 +276,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_reproduce)
+
+    _add_suite_parser(sub)
     return parser
 
 
@@ -201,11 +285,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``hapticsim`` console script; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # recorded by `suite run`
     try:
         return int(args.func(args))
     except HapticsimError as exc:
         message = " ".join(str(exc).split())
-        sys.stderr.write(f"hapticsim {args.command}: error: {message}\n")
+        command = " ".join(filter(None, (args.command, getattr(args, "suite_command", None))))
+        sys.stderr.write(f"hapticsim {command}: error: {message}\n")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         sys.stderr.write("hapticsim: interrupted\n")

@@ -32,12 +32,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--noise", type=float, default=0.02, help="sensor noise sigma_N")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument(
+        "--scheduler", default=None, help="a Dask cluster instead: tcp://host:port or local:N"
+    )
     parser.add_argument("--out", type=Path, default=Path("docs/policies"))
     args = parser.parse_args(argv)
 
     start = time.perf_counter()
     cmp = compare_policies(
         args.policies, args.objects, args.episodes, seed=args.seed, workers=args.workers,
+        scheduler=args.scheduler,
         backend=args.backend, touch_budget=args.budget, noise=args.noise,
     )  # fmt: skip
     command = "python scripts/compare_policies.py " + " ".join(

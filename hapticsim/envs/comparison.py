@@ -1,8 +1,9 @@
 """Comparison of exploration policies: epsilon after N touches over many objects.
 
-:func:`compare_policies` runs every (policy, object set, episode) on a process pool (seeds depend
-only on the episode, so results do not depend on the worker count, and every policy meets the
-same objects, noise and rough positions); :func:`write_comparison` writes the table (CSV and
+:func:`compare_policies` runs every (policy, object set, episode) through the executor layer
+(:mod:`hapticsim.parallel`: local processes or a Dask cluster; seeds depend only on the episode,
+so results do not depend on the engine or the worker count, and every policy meets the same
+objects, noise and rough positions); :func:`write_comparison` writes the table (CSV and
 Markdown), the plot (PNG) and the raw numbers (JSON).
 """
 
@@ -33,7 +34,7 @@ POLICY_STYLE: dict[str, dict[str, Any]] = {
 
 @dataclass(frozen=True)
 class ComparisonTask:
-    """One episode of the comparison (picklable, for the process pool).
+    """One episode of the comparison (picklable, for the worker processes).
 
     Attributes:
         policy: policy name (:data:`hapticsim.envs.policies.POLICY_NAMES`).
@@ -48,6 +49,11 @@ class ComparisonTask:
     episode: int
     seed: int
     env_kwargs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        """The episode in messages, e.g. ``"episode 3 of policy random on paper objects"``."""
+        return f"episode {self.episode} of policy {self.policy} on {self.objects} objects"
 
 
 _ENVS: dict[tuple, Any] = {}
@@ -149,6 +155,7 @@ def compare_policies(
     seed: int = 0,
     workers: int | None = 2,
     progress: bool = True,
+    scheduler: str | None = None,
     **env_kwargs: Any,
 ) -> Comparison:
     """Run every policy on the same `episodes` objects of each object set.
@@ -158,8 +165,9 @@ def compare_policies(
         object_sets: object distribution kinds (``"paper"``, ``"random"``, ``"random_tapered"``).
         episodes: episodes per (policy, object set); episode i uses seed ``seed + i``.
         seed: root seed.
-        workers: processes (default 2).
+        workers: processes (default 2); ignored with `scheduler`.
         progress: show a progress bar on stderr.
+        scheduler: run on a Dask cluster instead (``tcp://host:port`` or ``local:N``).
         **env_kwargs: environment settings (``backend``, ``touch_budget``, ``noise``, ...).
 
     Returns:
@@ -181,7 +189,10 @@ def compare_policies(
         for i in range(episodes)
         for p in policies
     ]
-    results = parallel_map(run_task, tasks, workers=workers, desc="episodes", progress=progress)
+    results = parallel_map(
+        run_task, tasks, workers=None if scheduler else workers, desc="episodes",
+        progress=progress, names=lambda t: t.label, unit="episode", scheduler=scheduler,
+    )  # fmt: skip
     settings = {k: v for k, v in asdict(config).items() if k not in ("objects", "fit")}
     settings["fit"] = asdict(config.fit)
     settings["seed"] = seed

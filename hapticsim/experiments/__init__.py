@@ -8,5 +8,5 @@
   (:mod:`~hapticsim.experiments.claims`) and ``RESULTS.md``
   (:mod:`~hapticsim.experiments.report`); the ``hapticsim reproduce`` command.
 - :mod:`~hapticsim.experiments.trial`: one synthesise-fit-score trial;
-  :mod:`~hapticsim.parallel`: keyed seeds and the process pool.
+  the sweeps run on :mod:`hapticsim.parallel` (keyed seeds, local processes or Dask).
 """

@@ -129,7 +129,7 @@ def run_fig4(
     trials = config.trials()
     results = parallel_map(
         run_trial, trials, workers=workers, desc="fig4", progress=progress,
-        cost=lambda t: t.budget,
+        cost=lambda t: t.budget, names=lambda t: t.label, unit="fit",
     )  # fmt: skip
     return collect_fig4(config, dict(zip(trials, results, strict=True)))
 

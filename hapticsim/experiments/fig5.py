@@ -172,7 +172,7 @@ def run_fig5(
     trials = list(dict.fromkeys(config.trials()))
     results = parallel_map(
         run_trial, trials, workers=workers, desc="fig5", progress=progress,
-        cost=lambda t: t.budget,
+        cost=lambda t: t.budget, names=lambda t: t.label, unit="fit",
     )  # fmt: skip
     return collect_fig5(config, dict(zip(trials, results, strict=True)))
 

@@ -61,6 +61,14 @@ class Trial:
         if self.count < 1:
             raise InvalidInputError(f"`count` must be >= 1, got {self.count}")
 
+    @property
+    def label(self) -> str:
+        """The trial in messages, e.g. ``"trial cube/nH/noise=0.1/budget=5000/run=3"``."""
+        return (
+            f"trial {self.body}/{self.method}/noise={self.noise:g}/budget={self.budget}/"
+            f"run={self.run}"
+        )
+
 
 @dataclass(frozen=True)
 class TrialResult:

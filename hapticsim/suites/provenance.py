@@ -1,0 +1,113 @@
+"""What produced a results file: versions, git commit, machine, engine, seeds, command."""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import subprocess
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+#: Distributions whose versions are recorded (those that can change a number).
+PACKAGES: tuple[str, ...] = (
+    "numpy", "scipy", "mujoco", "gymnasium", "trimesh", "manifold3d", "numba", "llvmlite",
+    "threadpoolctl", "distributed", "dask",
+)  # fmt: skip
+#: How a case's seeds derive from the suite's root seed.
+SEED_SCHEME: str = (
+    "numpy SeedSequence(root, spawn_key=SHA-256 of the canonical JSON of the case's parameters "
+    "as 4 x 32-bit words); data seed: the data parameters only, case seed: all parameters"
+)
+
+
+def package_versions() -> dict[str, str | None]:
+    """Installed versions of :data:`PACKAGES` (None where not installed)."""
+    out: dict[str, str | None] = {}
+    for name in PACKAGES:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = None
+    return out
+
+
+def git_state() -> dict[str, Any] | None:
+    """``{"commit", "dirty"}`` of the git checkout hapticsim is imported from, or None.
+
+    None when hapticsim is not run from a checkout of its own repository (an installed wheel),
+    or git is missing. A checkout of some other project that happens to contain the
+    installation does not count.
+    """
+    import hapticsim
+
+    package = Path(hapticsim.__file__).resolve().parent
+
+    def git(*args: str) -> str | None:
+        try:
+            proc = subprocess.run(
+                ["git", "-C", str(package), *args], capture_output=True, text=True, timeout=10
+            )
+        except (OSError, subprocess.SubprocessError):
+            return None
+        return proc.stdout.strip() if proc.returncode == 0 else None
+
+    top = git("rev-parse", "--show-toplevel")
+    if not top or Path(top).resolve() / "hapticsim" != package:
+        return None
+    commit = git("rev-parse", "HEAD")
+    status = git("status", "--porcelain", "--untracked-files=no")
+    return {"commit": commit, "dirty": bool(status)}
+
+
+def machine() -> dict[str, Any]:
+    """System, CPU model, core count and Python of this machine."""
+    cpu = platform.processor() or None
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {
+        "system": f"{platform.system()} {platform.release()}",
+        "architecture": platform.machine(),
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+    }
+
+
+def load_average() -> list[float] | None:
+    """1, 5 and 15 minute load averages (None where the system has none)."""
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except OSError:
+        return None
+
+
+def provenance(
+    engine: dict[str, Any], seed: int, command: list[str] | None, started: datetime.datetime
+) -> dict[str, Any]:
+    """The provenance record of a suite run.
+
+    Args:
+        engine: the executor's description (:meth:`hapticsim.parallel.Executor.describe`).
+        seed: the suite's root seed.
+        command: the command line, if run from one.
+        started: when the run started (UTC).
+    """
+    import hapticsim
+
+    return {
+        "hapticsim": hapticsim.__version__,
+        "git": git_state(),
+        "packages": package_versions(),
+        "machine": machine(),
+        "engine": engine,
+        "seeds": {"root": seed, "scheme": SEED_SCHEME},
+        "command": command,
+        "started": started.isoformat(timespec="seconds"),
+    }

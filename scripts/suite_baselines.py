@@ -1,0 +1,60 @@
+"""Regenerate the committed suite baselines docs/suites/*.json and docs/suites/README.md.
+
+One command after a change that moves the numbers (a faster or better fitter, a new policy):
+
+    python scripts/suite_baselines.py                  # all shipped suites, 2 worker processes
+    python scripts/suite_baselines.py fit-v1           # one suite
+    python scripts/suite_baselines.py --scheduler local:2
+
+Each suite is run as ``hapticsim suite run NAME --workers 2 --out docs/suites/NAME.json``; the
+README gets one section per baseline (group tables, run time, commit). Run it from a clean
+checkout, so that the recorded commit is the code that made the numbers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from hapticsim._files import write_text_atomic
+from hapticsim.suites import run_suite, suite_names
+from hapticsim.suites.report import results_markdown
+
+HEADER = """# Suite baselines
+
+Results of the regression suites shipped with hapticsim (`hapticsim suite list`) at the commit
+named in each section: the baselines that `hapticsim suite compare docs/suites/NAME.json
+RESULTS.json` checks new results against. Regenerate them all with
+`python scripts/suite_baselines.py` (README.md, section "Regression suites in your CI").
+"""
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("suites", nargs="*", help="suite ids (default: all shipped suites)")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--scheduler", default=None, help="a Dask cluster instead of processes")
+    parser.add_argument("--out", type=Path, default=Path("docs/suites"))
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for name in args.suites or suite_names():
+        engine = f"--scheduler {args.scheduler}" if args.scheduler else f"--workers {args.workers}"
+        command = f"hapticsim suite run {name} {engine} --out {args.out / name}.json"
+        print(command, file=sys.stderr)
+        run_suite(
+            name, args.out / f"{name}.json", workers=None if args.scheduler else args.workers,
+            scheduler=args.scheduler, command=command.split(),
+        )  # fmt: skip
+    sections = []
+    for path in sorted(args.out.glob("*.json")):
+        results = json.loads(path.read_text())
+        command = " ".join(results["provenance"]["command"] or [])
+        sections.append(results_markdown(results, command))
+    write_text_atomic(args.out / "README.md", HEADER + "\n" + "\n".join(sections))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,72 @@
+"""The Dask engine on a real ``distributed.LocalCluster`` with worker processes (extra ``dask``)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from hapticsim.errors import InvalidInputError, SchedulerError, WorkerDiedError
+from hapticsim.parallel import DaskExecutor, RemoteTraceback, SerialExecutor
+from tests.parallel.test_executors import _blas_threads, _die_on, _draw, _raise_on
+
+
+def test_without_distributed_the_message_says_what_to_install(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import fails as if not installed
+    with pytest.raises(SchedulerError, match=r"pip install 'hapticsim\[dask\]'"):
+        DaskExecutor("local:1").map(_draw, [1], progress=False)
+
+
+pytest.importorskip("distributed")
+
+
+@pytest.fixture(scope="module")
+def cluster() -> Iterator[DaskExecutor]:
+    with DaskExecutor("local:2") as engine:  # ~1 s to start two worker processes
+        yield engine
+
+
+def test_local_cluster_gives_the_serial_results(cluster: DaskExecutor) -> None:
+    tasks = list(range(10))
+    serial = SerialExecutor().map(_draw, tasks, progress=False)
+    remote = cluster.map(_draw, tasks, progress=False, cost=lambda k: k % 3)
+    assert [r[:2] for r in remote] == [r[:2] for r in serial]
+    assert {r[2] for r in remote} == {"1"}
+    assert cluster.map(_blas_threads, [0, 1], progress=False) == [1, 1]
+    assert cluster.workers == 2
+    assert cluster.describe() == {"engine": "dask", "scheduler": "local:2", "workers": 2}
+
+
+def test_a_task_error_arrives_with_its_type(cluster: DaskExecutor) -> None:
+    with pytest.raises(InvalidInputError, match="must not be 2") as info:
+        cluster.map(_raise_on, [1, 2, 3], names=["a", "b", "c"], progress=False)
+    assert isinstance(info.value.__cause__, RemoteTraceback)
+    assert "running b" in str(info.value.__cause__)
+
+
+def test_connecting_by_address_to_a_running_scheduler(cluster: DaskExecutor) -> None:
+    address = cluster._cluster.scheduler_address  # a real tcp:// scheduler on loopback
+    with DaskExecutor(address) as engine:
+        assert [r[:2] for r in engine.map(_draw, [4, 5], progress=False)] == [
+            r[:2] for r in SerialExecutor().map(_draw, [4, 5], progress=False)
+        ]
+
+
+def test_a_worker_that_dies_is_named_with_its_task() -> None:
+    names = [f"case c{k}" for k in range(8)]
+    with DaskExecutor("local:2") as engine:
+        with pytest.raises(WorkerDiedError) as info:
+            engine.map(_die_on, list(range(8)), names=names, progress=False)
+    assert info.value.task == "case c3"
+    assert "died while running case c3" in str(info.value)
+
+
+def test_an_unreachable_scheduler_is_one_clear_error() -> None:
+    start = time.perf_counter()
+    with pytest.raises(SchedulerError, match=r"cannot reach the Dask scheduler at tcp://127\.0"):
+        DaskExecutor("tcp://127.0.0.1:9", timeout=1.0).map(_draw, [1], progress=False)
+    assert time.perf_counter() - start < 15.0
