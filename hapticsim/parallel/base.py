@@ -51,21 +51,14 @@ def limit_threads() -> None:
     """Cap the BLAS/OpenMP/numba thread pools of this process at one thread.
 
     Sets the environment variables (read by libraries loaded later, and by child processes) and
-    limits the pools already loaded (threadpoolctl; numba if it is imported).
+    limits the pools already loaded through threadpoolctl. (numba's own pool is left alone: the
+    kernels are not ``parallel=True``, and starting that pool would load an OpenMP runtime.)
     """
     for var in THREAD_ENV_VARS:
         os.environ[var] = "1"
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(limits=1)
-    _limit_numba()
-
-
-def _limit_numba() -> None:
-    numba = sys.modules.get("numba")
-    if numba is not None:  # only where a kernel already loaded it: never import numba here
-        with contextlib.suppress(Exception):
-            numba.set_num_threads(1)
 
 
 @contextlib.contextmanager

@@ -86,6 +86,12 @@ def test_parallel_map_same_result_for_any_worker_count() -> None:
 
 
 def test_every_local_engine_caps_blas_threads() -> None:
+    from hapticsim.data.bodies import get_body
+    from hapticsim.data.synthetic import paper_dataset
+    from hapticsim.fitting import fit
+
+    contacts = paper_dataset(get_body("cube"), rng=0)
+    fit(contacts.points, contacts.normals, budget=300, rng=0)  # BLAS and numba loaded and used
     assert SerialExecutor().map(_blas_threads, [0], progress=False) == [1]
     assert ProcessExecutor(2).map(_blas_threads, [0, 1], progress=False) == [1, 1]
 

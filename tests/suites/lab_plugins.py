@@ -42,7 +42,8 @@ def raising_fit(points: np.ndarray, normals: np.ndarray):  # noqa: ANN201
 
 def nan_fit(points: np.ndarray, normals: np.ndarray) -> dict:
     """Returns a superquadric full of NaN."""
-    return {"a": [float("nan")] * 3, "eps": [1.0, 1.0]}
+    return {"a": [float("nan")] * 3, "eps": [1.0, 1.0], "rotation": np.eye(3).tolist(),
+            "center": [0.0, 0.0, 0.0]}  # fmt: skip
 
 
 def dying_fit(points: np.ndarray, normals: np.ndarray):  # noqa: ANN201

@@ -34,8 +34,8 @@ def test_a_fit_case_is_deterministic_and_complete() -> None:
     # nH on the cylinder at sigma_N = 0.05: epsilon 0.05-0.15 measured over the suite's runs.
     assert m["epsilon"] < 0.3
     assert m["fitter"] == "nH" and m["evaluations"] <= 5000
-    assert Superquadric.from_dict(first["truth"]) == Superquadric.from_dict(
-        {"a": [0.03, 0.03, 0.06], "eps": [0.1, 1.0]}
+    assert Superquadric.from_dict(first["truth"]) == Superquadric(
+        a=(0.03, 0.03, 0.06), eps=(0.1, 1)
     )
     assert first["seconds"] > 0 and first["fit_seconds"] > 0
 
@@ -53,7 +53,7 @@ def test_methods_of_one_run_see_the_same_random_body() -> None:
 @pytest.mark.parametrize(
     ("fitter", "error"),
     [
-        ("garbage_fit", "missing key(s) ['eps']"),
+        ("garbage_fit", "the fitter returned an invalid superquadric: superquadric is missing"),
         ("raising_fit", "the fitter tests.suites.lab_plugins:raising_fit raised RuntimeError"),
         ("nan_fit", "the fitter returned an invalid superquadric"),
     ],
@@ -86,7 +86,7 @@ def test_as_superquadric_refuses_what_is_not_one() -> None:
     with pytest.raises(InvalidInputError, match="returned NoneType None"):
         as_superquadric(None)
     with pytest.raises(InvalidInputError, match="invalid superquadric"):
-        as_superquadric({"a": [-1, 1, 1], "eps": [1, 1]})
+        as_superquadric({**sq.to_dict(), "a": [-1, 1, 1]})
 
 
 @pytest.mark.parametrize(
