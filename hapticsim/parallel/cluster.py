@@ -203,17 +203,30 @@ class DaskExecutor(Executor[T, R]):
 
         token = uuid.uuid4().hex[:12]
         index_of: dict[str, int] = {}
-        futures = []
-        for rank, i in enumerate(order):
+        queue = iter(enumerate(order))
+        futures: list[Any] = []
+
+        def submit() -> Any:
+            item = next(queue, None)
+            if item is None:
+                return None
+            rank, i = item
             key = f"hapticsim-{token}-{i}"
             index_of[key] = i
-            futures.append(
-                client.submit(_call, func, tasks[i], key=key, pure=False, priority=-rank)
-            )
+            future = client.submit(_call, func, tasks[i], key=key, pure=False, priority=-rank)
+            futures.append(future)
+            return future
+
+        # One task in flight per worker thread: a worker that dies was running exactly one of
+        # ours, so the error names the right task (and the expensive-first order holds).
+        pending = as_completed([], loop=client.loop)
+        for _ in range(max(1, self.workers)):
+            future = submit()
+            if future is not None:
+                pending.add(future)
         started()
-        remaining = len(futures)
         try:
-            for future in as_completed(futures, loop=client.loop):
+            for future in pending:
                 i = index_of[future.key]
                 if future.status == "error":
                     exc = future.exception()
@@ -231,11 +244,15 @@ class DaskExecutor(Executor[T, R]):
                         f"({future.status}): the connection was lost"
                     )
                 done(i, future.result())
-                remaining -= 1
+                future.release()
+                following = submit()
+                if following is not None:
+                    pending.add(following)
         finally:
-            if remaining:
+            unfinished = [f for f in futures if f.status not in ("finished", "lost")]
+            if unfinished:
                 try:
-                    client.cancel(futures)
+                    client.cancel(unfinished)
                 except Exception:  # noqa: BLE001 - the run already failed
                     pass
 
