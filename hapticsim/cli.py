@@ -19,10 +19,59 @@ EXIT_BAD_INPUT = 2
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose errors are one line on stderr, exit status 2."""
+    """ArgumentParser whose errors are one line on stderr, exit status 2; ``lazy_epilog``
+    (a callable) builds the epilog only when the help is shown."""
+
+    lazy_epilog: Any = None
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
+
+    def format_help(self) -> str:
+        if self.lazy_epilog is not None and self.epilog is None:
+            self.epilog = self.lazy_epilog()
+        return super().format_help()
+
+
+def _explore_epilog() -> str:
+    """The object kinds and the registered strategies (imports the simulator: help only)."""
+    import textwrap
+
+    from hapticsim.sim.strategies import STRATEGIES
+
+    lines = ["object kinds (--object):"]
+    kinds = (
+        ("body", "tapered_box, cube, cylinder, ellipsoid (the paper's bodies)"),
+        ("superquadric", "a .json file (SPEC §6: a superquadric or a fit result)"),
+        ("random", "a random superquadric without taper, drawn from --seed"),
+        ("random_tapered", "a random tapered superquadric, drawn from --seed"),
+        ("mesh", "a closed .stl, .obj, .ply or .off file in metres (--scale converts);"
+                 " centred at its centroid unless --pose; non-convex ones need coacd"),
+    )  # fmt: skip
+    rows = list(kinds)
+    rows.append(("", ""))
+    for name in sorted(STRATEGIES):
+        doc = (STRATEGIES[name].__doc__ or "").strip().split("\n\n")[0]
+        rows.append((name, " ".join(doc.split())))
+    for k, v in rows:
+        if not k and not v:
+            lines.append("strategies (--strategy):")
+            continue
+        wrapped = textwrap.wrap(v, 60) or [""]
+        lines.append(f"  {k:<16}{wrapped[0]}")
+        lines += [" " * 18 + w for w in wrapped[1:]]
+    return "\n".join(lines)
+
+
+def _positive_float(text: str) -> float:
+    """argparse type of ``--scale``: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
 
 
 def _seed(text: str) -> int:
@@ -102,6 +151,8 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         render=args.render,
         progress=not args.quiet,
         count=args.count,
+        scale=args.scale,
+        pose=args.pose,
     )
     if not summary["complete"]:
         sys.stderr.write(
@@ -244,9 +295,31 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=None, help="also write the result JSON here")
     p.set_defaults(func=_cmd_fit)
 
-    p = sub.add_parser("explore", help="simulated haptic exploration, fit and score")
-    p.add_argument("--object", default="cube", help="object name (default cube)")
-    p.add_argument("--strategy", default="paper", help="exploration strategy (default paper)")
+    p = sub.add_parser(
+        "explore",
+        help="simulated haptic exploration, fit and score",
+        description="Explore an object with the simulated hand (planning on a vision estimate\n"
+        "from one noisy depth image), fit a superquadric and score it against the truth.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.lazy_epilog = _explore_epilog
+    p.add_argument(
+        "--object", default="cube",
+        help="a body name, a superquadric .json, random, random_tapered or a mesh file "
+        "(.stl/.obj/.ply/.off); default cube (kinds below)",
+    )  # fmt: skip
+    p.add_argument(
+        "--scale", type=_positive_float, default=1.0,
+        help="factor from the object file's units to metres (default 1; 0.001 for mm)",
+    )  # fmt: skip
+    p.add_argument(
+        "--pose", default=None, metavar="X,Y,Z[,QW,QX,QY,QZ]",
+        help="place the object's own frame at this position [m] and orientation (quaternion, "
+        "w first); default: a mesh's centroid at the origin, a superquadric as it is",
+    )  # fmt: skip
+    p.add_argument(
+        "--strategy", default="paper", help="exploration strategy (default paper; list below)"
+    )
     p.add_argument("--noise", type=float, default=0.0, help="sensor noise sigma_N (default 0)")
     p.add_argument("--method", choices=METHODS, default="nH")
     p.add_argument("--seed", type=_seed, default=0)

@@ -29,10 +29,13 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.data.noise import add_noise
+from hapticsim.data.objects import truth_size
+from hapticsim.envs.mesh_surface import MeshSurface
 from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh_solid import MeshSolid
 
 Array = NDArray[np.float64]
 
@@ -80,7 +83,7 @@ def raycast_many(
     for level, count in enumerate(grids):
         s = lo[:, None] + step[:, None] * np.arange(count)[None, :]
         pts = origins[:, None, :] + s[..., None] * directions[:, None, :]
-        inside = (shape.inside_outside(pts.reshape(-1, 3)) <= 1.0).reshape(k, count)
+        inside = shape.contains(pts.reshape(-1, 3)).reshape(k, count)  # F <= 1 (or a mesh)
         any_in = inside.any(axis=1)
         if level == 0:
             hit = any_in
@@ -230,7 +233,8 @@ class AnalyticBackend(SupportedBackend):
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-4, 1.0)
         self.touch_seconds = finite_float(touch_seconds, "touch_seconds", 0.0)
         self.stroke_speed = finite_float(stroke_speed, "stroke_speed", 1e-6)
-        self._truth: Superquadric | None = None
+        self._truth: Superquadric | MeshSolid | None = None
+        self._surface: Superquadric | MeshSurface | None = None  # what rays and strokes meet
         self._rng: np.random.Generator | None = None
         self._support: Support | None = None
         self._clock = 0.0
@@ -252,6 +256,7 @@ class AnalyticBackend(SupportedBackend):
             the ground truth, `shape` itself.
         """
         self._truth = shape
+        self._surface = MeshSurface(shape) if isinstance(shape, MeshSolid) else shape
         self._rng = rng
         self._clock = 0.0
         self._support = Support.under(shape, self.support_kind)
@@ -263,14 +268,14 @@ class AnalyticBackend(SupportedBackend):
         Raises:
             InvalidInputError: before :meth:`reset`, or for a finger the hand does not have.
         """
-        if self._truth is None or self._rng is None:
+        if self._truth is None or self._surface is None or self._rng is None:
             raise InvalidInputError("call `reset` before `touch`")
         if touch.finger >= self.n_fingers:
             raise InvalidInputError(
                 f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
             )
         start = time.perf_counter()
-        truth = self._truth
+        truth = self._surface
         origin = np.asarray(origin, dtype=np.float64)
         far = 2.0 * truth.bounding_radius + 2.0 * float(np.linalg.norm(origin - truth.center))
         s = raycast(truth, origin + far * touch.approach, -touch.approach, far)
@@ -294,7 +299,7 @@ class AnalyticBackend(SupportedBackend):
         self._clock += float(duration[-1])
         if self.noise > 0:
             pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, float(np.mean(truth.a)), self._rng
+                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()
@@ -312,9 +317,9 @@ class AnalyticBackend(SupportedBackend):
 
     def _stroke(self, first: Array, stroke_angle: float, n_steps: int) -> list[Array]:
         """Contacts after `first` along the planar section of a stroke (see the module doc)."""
-        assert self._truth is not None
+        assert self._surface is not None
         return section_walk(
-            self._truth, first, stroke_angle, n_steps, self.stroke_spacing, self._reachable
+            self._surface, first, stroke_angle, n_steps, self.stroke_spacing, self._reachable
         )[1:]
 
     # ------------------------------------------------------------------ rendering

@@ -18,11 +18,11 @@ from numpy.typing import NDArray
 
 from hapticsim.constants import EPS_MAX, EPS_MIN
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
-from hapticsim.envs.objects import ObjectDistribution
+from hapticsim.envs.objects import ObjectDistribution, ObjectSet
 from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchBackend, TouchResult, decode_action
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry import N_PARAMS, MeshSolid, Superquadric
 
 Array = NDArray[np.float64]
 
@@ -65,7 +65,10 @@ class HapticExploreConfig:
         backend: ``"mujoco"`` (the simulated hand) or ``"analytic"`` (ray casting on the true
             superquadric; fast, same action semantics).
         objects: the object distribution, or one of its kind names (``"paper"``, ``"random"``,
-            ``"random_tapered"``).
+            ``"random_tapered"``); or any object or list of objects (body names, superquadric
+            JSON files, ``random``/``random_tapered``, mesh files, Superquadric or MeshSolid
+            values; :class:`~hapticsim.envs.objects.ObjectSet`), one drawn per episode. A mesh
+            truth is scored by :class:`~hapticsim.metrics.mesh_truth.MeshScorer`.
         touch_budget: touches per episode; the episode is truncated after it.
         max_contacts: size of the observation's contact buffer (later contacts are still fitted
             but not shown).
@@ -98,7 +101,7 @@ class HapticExploreConfig:
     """
 
     backend: str = "mujoco"
-    objects: ObjectDistribution | str = "paper"
+    objects: ObjectDistribution | ObjectSet | Any = "paper"
     touch_budget: int = 20
     max_contacts: int = 256
     max_stroke: float = 0.05
@@ -340,7 +343,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     (``ok``, ``missed``, ``blocked``, ``failed``), ``fit_status`` (``too_few_contacts``, ``full``,
     ``refine``, ``kept``, ``failed``), ``fit_eof`` [m^2], ``fit_evaluations``; ``timings``
     (:class:`StepTimings`: touch, fit, metrics, step [s]);
-    ``estimate`` and ``truth`` (:class:`~hapticsim.geometry.Superquadric`, world frame),
+    ``estimate`` and ``truth`` (:class:`~hapticsim.geometry.Superquadric`, or a
+    :class:`~hapticsim.geometry.mesh_solid.MeshSolid` for a mesh object; world frame),
     ``origin`` (rough position [m, world]), ``uncertainty`` (reward ``"uncertainty"`` only).
     All contacts, with fingers, forces [N] (MuJoCo; 0 on the analytic backend), times [s] and
     clean values, are in :attr:`contacts`.
@@ -349,7 +353,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     ``render_mode`` (None or ``"rgb_array"``, offscreen MuJoCo: set ``MUJOCO_GL=egl``) and the
     fields of :class:`HapticExploreConfig` as keywords (or ``config=``).
-    ``reset(options={"shape": Superquadric})`` explores the given object instead of drawing one.
+    ``reset(options={"shape": Superquadric | MeshSolid})`` explores the given object instead of
+    drawing one.
 
     ## Version history
 
@@ -393,8 +398,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             }
         )
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM,), np.float32)
-        self._truth: Superquadric | None = None
+        self._truth: Superquadric | MeshSolid | None = None
         self._rough = None
+        self._mesh_scorer = None
         self._origin = np.zeros(3)
         self._clear()
 
@@ -412,7 +418,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._progress = 1.0  # the quantity whose drop is the reward
 
     @property
-    def truth(self) -> Superquadric | None:
+    def truth(self) -> Superquadric | MeshSolid | None:
         """The ground truth of the episode (world frame), privileged."""
         return self._truth
 
@@ -462,9 +468,10 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         shape = options.get("shape")
         if shape is None:
             shape = self.config.objects.sample(self.np_random)
-        elif not isinstance(shape, Superquadric):
+        elif not isinstance(shape, (Superquadric, MeshSolid)):
             raise InvalidInputError(
-                f"`options['shape']` must be a Superquadric, got {type(shape).__name__}"
+                "`options['shape']` must be a Superquadric or a MeshSolid, got "
+                f"{type(shape).__name__}"
             )
         self._clear()
         self._fitter.reset()
@@ -477,6 +484,14 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._rough = rough.moved(rough.center + error)
         self._truth = self._backend.reset(shape, self.np_random, rough=self._rough)
         self._origin = self._rough.center.copy()
+        self._mesh_scorer = None
+        if isinstance(shape, MeshSolid):
+            from hapticsim.metrics.mesh_truth import MeshScorer
+
+            self._mesh_scorer = MeshScorer(
+                shape, self.config.metric_samples, self.config.chamfer_samples,
+                resolution=CHAMFER_RESOLUTION,
+            )  # fmt: skip
         info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
         return self._observation(), info
 
@@ -538,6 +553,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             return _NO_FIT_METRICS.copy()
         if estimate is self._scored:  # kept estimate: same score
             return dict(self._metrics)
+        if self._mesh_scorer is not None:  # a mesh truth
+            self._scored = estimate
+            return self._mesh_scorer(estimate)
         from hapticsim.metrics import chamfer, volume_overlap
 
         volumes = volume_overlap(estimate, self._truth, self.config.metric_samples, rng=0)

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
 from hapticsim.data.noise import add_noise
+from hapticsim.data.objects import truth_size
 from hapticsim.envs.analytic import raycast, section_walk, stroke_plane
 from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
@@ -172,7 +173,7 @@ class MujocoBackend(SupportedBackend):
         nrm_clean = new["normals_clean"][before:]
         if self.noise > 0:
             pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, float(np.mean(self._truth.a)), self._rng
+                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()

@@ -1,14 +1,30 @@
-"""Which object an exploration episode gets: a seeded distribution over superquadrics."""
+"""Which object an exploration episode gets: a seeded distribution, or a list of any objects.
+
+- :class:`ObjectDistribution`: the paper's bodies, or random superquadrics (tapered or not)
+  drawn from ranges;
+- :class:`ObjectSet`: a list of objects of any kind (:mod:`hapticsim.data.objects`: body names,
+  superquadric JSON files, ``random``/``random_tapered``, mesh files, or ready
+  :class:`~hapticsim.geometry.Superquadric` / :class:`~hapticsim.geometry.mesh_solid.MeshSolid`
+  values), one drawn uniformly per episode. Files are read (and meshes checked) once, when the
+  set is made; random entries are drawn from the episode's generator.
+
+:func:`coerce_objects` turns what the environment's ``objects=`` accepts into one of them.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
+from hapticsim.data.objects import ObjectSpec, as_spec, random_superquadric
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
+from hapticsim.geometry.mesh_solid import MeshSolid
 
 #: Kinds of object distributions.
 OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered")
@@ -70,15 +86,9 @@ class ObjectDistribution:
             raise InvalidInputError(f"`yaw_range` must be in [0, pi] [rad], got {self.yaw_range}")
 
     @classmethod
-    def coerce(cls, value: ObjectDistribution | str) -> ObjectDistribution:
-        """A distribution from itself or from a kind name."""
-        if isinstance(value, ObjectDistribution):
-            return value
-        if isinstance(value, str):
-            return cls(kind=value)
-        raise InvalidInputError(
-            f"`objects` must be an ObjectDistribution or one of {OBJECT_KINDS}, got {value!r}"
-        )
+    def coerce(cls, value: Any) -> ObjectDistribution | ObjectSet:
+        """What the environment's ``objects=`` accepts (see :func:`coerce_objects`)."""
+        return coerce_objects(value)
 
     def sample(self, rng: np.random.Generator) -> Superquadric:
         """Draw one object.
@@ -95,15 +105,85 @@ class ObjectDistribution:
 
             shape = get_body(self.bodies[int(rng.integers(len(self.bodies)))])
         else:
-            a = rng.uniform(*self.a_range, size=3)
-            eps = rng.uniform(*self.eps_range, size=2)
-            taper = (
-                rng.uniform(*self.taper_range, size=2)
-                if self.kind == "random_tapered" else np.zeros(2)
-            )  # fmt: skip
-            shape = Superquadric(a=a, eps=eps, taper=taper)
+            shape = random_superquadric(
+                rng, self.kind == "random_tapered", self.a_range, self.eps_range, self.taper_range
+            )
         if self.yaw_range > 0:
             yaw = rng.uniform(-self.yaw_range, self.yaw_range)
             rot = rotvec_to_matrix(np.array([0.0, 0.0, yaw]))
             shape = shape.transformed(rot, shape.center - rot @ shape.center)
         return shape
+
+
+@dataclass(frozen=True, eq=False)
+class ObjectSet:
+    """A list of objects of any kind; each episode draws one uniformly.
+
+    Attributes:
+        items: the objects: specs (:class:`~hapticsim.data.objects.ObjectSpec`, or a name or
+            path turned into one) or ready superquadrics and mesh solids. Fixed objects are
+            resolved (files read, meshes checked) on construction; ``random`` and
+            ``random_tapered`` entries are drawn anew each time they come up.
+
+    Raises:
+        InvalidInputError: an empty list, or an entry that is no object (the message names it).
+    """
+
+    items: tuple[Any, ...]
+    _resolved: tuple[Superquadric | MeshSolid | ObjectSpec, ...] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        items = tuple(self.items)
+        if not items:
+            raise InvalidInputError("`objects` must hold at least one object, got an empty list")
+        resolved: list[Superquadric | MeshSolid | ObjectSpec] = []
+        for k, item in enumerate(items):
+            if isinstance(item, (Superquadric, MeshSolid)):
+                resolved.append(item)
+                continue
+            if not isinstance(item, (ObjectSpec, str, Path)):
+                raise InvalidInputError(
+                    f"`objects[{k}]` must be a name, a path, an ObjectSpec, a Superquadric or a "
+                    f"MeshSolid, got {type(item).__name__}"
+                )
+            spec = as_spec(item)
+            resolved.append(spec if spec.is_random else spec.resolve())
+        object.__setattr__(self, "items", items)
+        object.__setattr__(self, "_resolved", tuple(resolved))
+
+    def __len__(self) -> int:
+        return len(self._resolved)
+
+    def sample(self, rng: np.random.Generator) -> Superquadric | MeshSolid:
+        """Draw one object (uniformly; a random entry then draws its shape from `rng`)."""
+        item = self._resolved[int(rng.integers(len(self._resolved)))]
+        return item.resolve(rng) if isinstance(item, ObjectSpec) else item
+
+
+def coerce_objects(value: Any) -> ObjectDistribution | ObjectSet:
+    """The object source of the environment's ``objects=``.
+
+    Args:
+        value: an :class:`ObjectDistribution` or :class:`ObjectSet` (as they are); a kind name
+            (:data:`OBJECT_KINDS`: ``"paper"``, ``"random"``, ``"random_tapered"``); any other
+            single object (a body name, a file path, an ObjectSpec, a Superquadric or a
+            MeshSolid); or a list or tuple of objects.
+
+    Raises:
+        InvalidInputError: naming what was not understood.
+    """
+    if isinstance(value, (ObjectDistribution, ObjectSet)):
+        return value
+    if isinstance(value, str) and value in OBJECT_KINDS:
+        return ObjectDistribution(kind=value)
+    if isinstance(value, (str, Path, ObjectSpec, Superquadric, MeshSolid)):
+        return ObjectSet((value,))
+    if isinstance(value, Sequence) and not isinstance(value, (bytes, bytearray)):
+        return ObjectSet(tuple(value))
+    raise InvalidInputError(
+        f"`objects` must be an ObjectDistribution, one of {OBJECT_KINDS}, an object (name, file, "
+        f"ObjectSpec, Superquadric, MeshSolid) or a list of objects, got {value!r}"
+    )
+
+
+__all__ = ["OBJECT_KINDS", "ObjectDistribution", "ObjectSet", "coerce_objects"]

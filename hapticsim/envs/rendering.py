@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from hapticsim.envs.support import Support
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh_solid import MeshSolid
 
 Array = NDArray[np.float64]
 
@@ -25,10 +26,10 @@ STAND_HEIGHT = 0.06
 CONTACT_RADIUS = 0.0025
 
 
-def _add_mesh(spec, name: str, shape: Superquadric, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
+def _add_mesh(spec, name: str, shape: Superquadric | MeshSolid, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
     import mujoco
 
-    mesh = shape.to_mesh(resolution=40)
+    mesh = shape if isinstance(shape, MeshSolid) else shape.to_mesh(resolution=40)
     spec.add_mesh(
         name=name,
         uservert=np.asarray(mesh.vertices).ravel().tolist(),

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh_solid import MeshSolid
 
 Array = NDArray[np.float64]
 
@@ -50,9 +51,15 @@ class Support:
         object.__setattr__(self, "foot", np.asarray(self.foot, dtype=np.float64).reshape(3))
 
     @classmethod
-    def under(cls, shape: Superquadric, kind: str = "stand") -> Support:
+    def under(cls, shape: Superquadric | MeshSolid, kind: str = "stand") -> Support:
         """The support of `shape` as the MuJoCo scene builds it (lowest point nearest the centre,
-        found on a dense surface sample to about 0.1 mm)."""
+        found on a dense surface sample to about 0.1 mm); for a mesh solid, the scene's own rule
+        (:func:`hapticsim.sim.object_mesh.support_foot`)."""
+        if isinstance(shape, MeshSolid):
+            from hapticsim.sim.object_mesh import support_foot, support_radius
+
+            foot = support_foot(shape, np.asarray(shape.vertices))
+            return cls(kind, foot, support_radius(shape, STAND_RADIUS))
         eta = np.linspace(-np.pi / 2, np.pi / 2, 91)
         omega = np.linspace(-np.pi, np.pi, 181)
         ee, oo = np.meshgrid(eta, omega)

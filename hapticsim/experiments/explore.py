@@ -1,16 +1,21 @@
 """``hapticsim explore``: a simulated haptic exploration, the fit and its score (SPEC §6).
 
-:func:`explore` runs the hand on one of the paper's bodies with a named strategy (headless
-MuJoCo), adds seeded sensor noise at the SPEC §5 level, fits a superquadric
-(:func:`hapticsim.fitting.fit`), scores it against the truth (:func:`hapticsim.metrics.score`)
-and writes, in the output directory:
+:func:`explore` runs the hand on an object with a named strategy (headless MuJoCo): a paper
+body, a superquadric JSON file, a random superquadric drawn from the seed, or a mesh file
+(:mod:`hapticsim.data.objects`). The hand plans on a vision estimate
+(:func:`hapticsim.sim.rough.vision_estimate`, one noisy depth image). It adds seeded sensor noise
+at the SPEC §5 level, fits a superquadric (:func:`hapticsim.fitting.fit`), scores it against the
+truth (:func:`hapticsim.metrics.score`; against the mesh for a mesh object) and writes, in the
+output directory:
 
 - ``contacts.npz``: ``points``, ``normals`` (with noise), ``points_clean``, ``normals_clean``,
   ``finger`` (n,) int (0 thumb, 1 index, 2 middle, 3 ring), ``force`` (n,) [N], ``time`` (n,) [s],
   ``pattern`` (n,) int (pattern id; ``pattern_kind`` gives patch/stripe per id);
-- ``truth.json`` (superquadric), ``fit.json`` (fit result), ``metrics.json`` (quality measures
-  and contact accuracy), ``report.png`` (truth, estimate, contacts with normals) and, with
-  ``render=True``, ``scene.png`` (MuJoCo's offscreen renderer, ``MUJOCO_GL=egl``).
+- ``truth.json`` (superquadric) or, for a mesh object, ``truth.stl`` (world frame, metres);
+  ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
+  accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
+  estimate, contacts with normals) and, with ``render=True``, ``scene.png`` (MuJoCo's
+  offscreen renderer, ``MUJOCO_GL=egl``).
 
 Everything is computed before the first file is written, and every file is written to a
 temporary name and renamed, so a failure leaves no half-written output.
@@ -37,7 +42,7 @@ DEFAULT_CONTACTS: int = 150
 
 
 def explore(
-    object_name: str = "cube",
+    object_name: Any = "cube",
     strategy: str = "paper",
     noise: float = 0.0,
     method: str = "nH",
@@ -46,11 +51,15 @@ def explore(
     render: bool = False,
     progress: bool = True,
     count: int = DEFAULT_CONTACTS,
+    scale: float = 1.0,
+    pose: Any = None,
 ) -> dict[str, Any]:
-    """Explore a body with the simulated hand, fit, score and write the results.
+    """Explore an object with the simulated hand, fit, score and write the results.
 
     Args:
-        object_name: one of the paper's bodies (``hapticsim.data.bodies.BODY_NAMES``).
+        object_name: the object: a paper body name, a superquadric ``.json``, ``random`` or
+            ``random_tapered`` (drawn from `seed`), a mesh file (``.stl``, ``.obj``, ``.ply``,
+            ``.off``), or an :class:`~hapticsim.data.objects.ObjectSpec`.
         strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``).
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
         method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``.
@@ -59,6 +68,10 @@ def explore(
         render: also write ``scene.png`` from MuJoCo's offscreen renderer.
         progress: show a progress bar on stderr.
         count: number of contacts to gather.
+        scale: factor from the object file's units to metres (0.001 for millimetres).
+        pose: placement of the object, a :class:`~hapticsim.data.objects.Pose` or its text
+            ``"x,y,z[,qw,qx,qy,qz]"`` (default: a superquadric where its parameters put it, a
+            mesh with its centroid at the origin).
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
@@ -68,14 +81,22 @@ def explore(
 
     Raises:
         InvalidInputError: unknown object, strategy or method (the message lists the choices),
-            or a bad noise level or seed.
+            a mesh that is empty, not watertight or of an unknown format, or a bad noise level,
+            seed, scale or pose.
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or too few contacts were gathered.
     """
-    from hapticsim.data.bodies import get_body
+    from hapticsim.data.objects import ObjectSpec, Pose
     from hapticsim.fitting import METHODS
 
-    truth = get_body(object_name)
+    if isinstance(pose, str):
+        pose = Pose.parse(pose)
+    if isinstance(object_name, ObjectSpec):
+        if scale != 1.0 or pose is not None:
+            raise InvalidInputError("give `scale` and `pose` in the ObjectSpec, not beside it")
+        spec = object_name
+    else:
+        spec = ObjectSpec(object_name, scale=scale, pose=pose)
     from hapticsim.sim.strategies import get_strategy
 
     get_strategy(strategy)
@@ -83,21 +104,24 @@ def explore(
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     sigma = finite_float(noise, "noise", low=0.0)
     seed = positive_int(seed, "seed", minimum=0)
-    default = Path("runs") / f"{object_name}-{strategy}-seed{seed}"
+    default = Path("runs") / f"{spec.name}-{strategy}-seed{seed}"
     out = Path(out_dir) if out_dir is not None else default
     if out.exists() and not out.is_dir():
         raise InvalidInputError(f"`out_dir` {out} exists and is not a directory")
-    return _explore(truth, object_name, strategy, sigma, method, seed, out, render, progress, count)
+    # the object's own stream: spawn(4)[:3] are the streams of the simulation, noise and fit
+    truth = spec.resolve(np.random.default_rng(np.random.SeedSequence(seed).spawn(4)[3]))
+    return _explore(truth, spec, strategy, sigma, method, seed, out, render, progress, count)
 
 
 def _explore(
-    truth: Any, object_name: str, strategy: str, sigma: float, method: str, seed: int,
+    truth: Any, spec: Any, strategy: str, sigma: float, method: str, seed: int,
     out: Path, render: bool, progress: bool, count: int,
 ) -> dict[str, Any]:  # fmt: skip
     from tqdm import tqdm
 
     from hapticsim.data.io import Contacts, write_contacts, write_json
     from hapticsim.data.noise import add_noise
+    from hapticsim.data.objects import stl_bytes, truth_size
     from hapticsim.experiments.explore_report import (
         exploration_figure_png,
         png_bytes,
@@ -105,11 +129,14 @@ def _explore(
     )
     from hapticsim.fitting import fit
     from hapticsim.fitting.methods import uses_normals
+    from hapticsim.geometry.mesh_solid import MeshSolid
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
 
     start = time.perf_counter()
+    object_name = spec.name
+    is_mesh = isinstance(truth, MeshSolid)
     seeds = np.random.SeedSequence(seed).spawn(3)
     sim_rng, noise_rng = (np.random.default_rng(s) for s in seeds[:2])
     fit_seed = int(seeds[2].generate_state(1)[0])
@@ -134,8 +161,8 @@ def _explore(
         except SimulationError as exc:
             raise SimulationError(
                 f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
-                f"reproduce: hapticsim explore --object {object_name} --strategy {strategy} "
-                f"--seed {seed} --count {count}]"
+                f"reproduce: hapticsim explore --object {spec.source} --strategy {strategy} "
+                f"--seed {seed} --count {count}{_placement_args(spec)}]"
             ) from exc
         if render and "scene" not in picture:
             from hapticsim.sim.render import render_scene
@@ -143,14 +170,20 @@ def _explore(
             picture["scene"] = png_bytes(render_scene(run.explorer.sim))
         a = run.arrays
         points, normals = add_noise(
-            a["points_clean"], a["normals_clean"], sigma, float(np.mean(truth.a)), noise_rng
+            a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
         )
         bar.set_postfix_str("fitting")
         result = fit(points, normals, method=method, rng=fit_seed)
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
-        th = theta(result.superquadric, truth, points, normals if uses_normals(method) else None)
+        th = (  # theta needs the EOF of the true superquadric: undefined for a mesh truth
+            None
+            if is_mesh
+            else float(theta(result.superquadric, truth, points,
+                             normals if uses_normals(method) else None))
+        )  # fmt: skip
+        truth_file = ("truth.stl", stl_bytes(truth)) if is_mesh else None
         report = exploration_figure_png(
             truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
             f"{object_name}, {strategy} exploration ({run.count} contacts, sigma_N = {sigma}), "
@@ -161,7 +194,7 @@ def _explore(
 
     metrics = {
         **quality.to_dict(),
-        "theta": float(th),
+        "theta": th,
         "contact_accuracy": accuracy,
         "contacts": run.count,
         **_completeness(run),
@@ -169,7 +202,11 @@ def _explore(
         "method": method,
         "strategy": strategy,
         "object": object_name,
+        "object_spec": spec.to_dict(),
+        "truth": "truth.stl" if is_mesh else "truth.json",
         "seed": seed,
+        "vision": run.rough.to_dict(),
+        "collision": run.explorer.scene.collision_method,
     }
     sim_stats = {
         "sim_time": run.sim_time,
@@ -186,7 +223,11 @@ def _explore(
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
     files = {
         "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
-        "truth": write_json(out / "truth.json", truth.to_dict()),
+        "truth": (
+            write_bytes_atomic(out / truth_file[0], truth_file[1])
+            if truth_file is not None
+            else write_json(out / "truth.json", truth.to_dict())
+        ),
         "fit": write_json(out / "fit.json", result.to_dict()),
         "metrics": write_json(out / "metrics.json", metrics),
         "report": write_bytes_atomic(out / "report.png", report),
@@ -203,12 +244,23 @@ def _explore(
         "seed": seed,
         "contacts": run.count,
         **_completeness(run),
-        "metrics": quality.to_dict() | {"theta": float(th)},
+        "metrics": quality.to_dict() | {"theta": th},
         "contact_accuracy": accuracy,
         "fit": {"eof": result.eof, "evaluations": result.evaluations, "seconds": result.seconds},
         "simulation": sim_stats,
         "seconds": time.perf_counter() - start,
     }
+
+
+def _placement_args(spec: Any) -> str:
+    """The ``--scale``/``--pose`` options that reproduce a spec's placement ('' if none)."""
+    text = "" if spec.scale == 1.0 else f" --scale {spec.scale}"
+    if spec.pose is not None:
+        from hapticsim.geometry import matrix_to_quaternion
+
+        values = [*spec.pose.position, *matrix_to_quaternion(spec.pose.rotation)]
+        text += " --pose " + ",".join(f"{v:.9g}" for v in values)
+    return text
 
 
 def _completeness(run: Any) -> dict[str, Any]:

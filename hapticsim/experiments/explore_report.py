@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh_solid import MeshSolid
 
 Array = NDArray[np.float64]
 
@@ -18,15 +19,27 @@ FINGER_COLORS: tuple[str, ...] = ("tab:green", "tab:red", "tab:purple", "tab:bro
 FINGER_LABELS: tuple[str, ...] = ("thumb", "index", "middle", "ring")
 
 
-def _surface(ax: Any, sq: Superquadric, color: str, alpha: float, resolution: int = 40) -> None:
-    mesh = sq.to_mesh(resolution)
-    v = mesh.vertices * 1000.0
-    ax.plot_trisurf(v[:, 0], v[:, 1], v[:, 2], triangles=mesh.faces, color=color, alpha=alpha,
+def _surface(
+    ax: Any, shape: Superquadric | MeshSolid, color: str, alpha: float, resolution: int = 40
+) -> None:
+    if isinstance(shape, MeshSolid):
+        v, faces = np.asarray(shape.vertices) * 1000.0, np.asarray(shape.faces)
+    else:
+        mesh = shape.to_mesh(resolution)
+        v, faces = mesh.vertices * 1000.0, mesh.faces
+    ax.plot_trisurf(v[:, 0], v[:, 1], v[:, 2], triangles=faces, color=color, alpha=alpha,
                     linewidth=0.0, shade=True)  # fmt: skip
 
 
+def _half_width(truth: Superquadric | MeshSolid) -> float:
+    """Half the side [mm] of the cube the panels show around the truth."""
+    if isinstance(truth, MeshSolid):
+        return max(float(np.max(np.ptp(truth.bounds, axis=0))) * 500.0 * 1.15, 10.0)
+    return max(float(np.max(truth.a * (1 + np.r_[np.abs(truth.taper), 0.0]))) * 1000.0, 10.0)
+
+
 def exploration_figure_png(
-    truth: Superquadric,
+    truth: Superquadric | MeshSolid,
     estimate: Superquadric | None,
     points_world: Array,
     normals_world: Array,
@@ -38,7 +51,7 @@ def exploration_figure_png(
     estimate over the truth (right). Lengths in millimetres.
 
     Args:
-        truth: the true object.
+        truth: the true object (a superquadric or a mesh solid).
         estimate: the fitted superquadric, or None.
         points_world: (n, 3) float, contact points [m].
         normals_world: (n, 3) float, outward unit normals.
@@ -54,7 +67,7 @@ def exploration_figure_png(
     fig = Figure(figsize=(10, 5))
     pts = np.asarray(points_world) * 1000.0
     nrm = np.asarray(normals_world)
-    half = max(float(np.max(truth.a * (1 + np.r_[np.abs(truth.taper), 0.0]))) * 1000.0, 10.0)
+    half = _half_width(truth)
     center = truth.center * 1000.0
     arrow = 0.25 * half
     for k, (panel, show_estimate) in enumerate(

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import as_generator, finite_array, points_array, positive_int
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.triangles import PAIR_BATCH, nearest_of_pairs, sample_triangles
 
 Array = NDArray[np.float64]
 
@@ -209,6 +210,30 @@ class MeshSolid:
             out[sel] = self._grid.parity(p[sel])
         return out
 
+    def closest_points(self, points_world: Array) -> tuple[Array, NDArray[np.int64]]:
+        """The closest point of the surface to each point and the face it lies on (exact: every
+        face is tested, in batches; :func:`hapticsim.metrics.mesh_truth.closest_points` is the
+        accelerated version for many points on large meshes).
+
+        Args:
+            points_world: (n, 3) float [m, world].
+
+        Returns:
+            closest (n, 3) float [m, world] and face (n,) int.
+        """
+        p = points_array(points_world, "points_world", min_count=1)
+        tri = np.asarray(self.triangles)
+        m = len(tri)
+        closest, face = np.zeros_like(p), np.zeros(len(p), dtype=np.int64)
+        step = max(1, PAIR_BATCH // m)
+        for start in range(0, len(p), step):
+            chunk = p[start : start + step]
+            pi = np.repeat(np.arange(len(chunk)), m)
+            fi = np.tile(np.arange(m), len(chunk))
+            s = slice(start, start + len(chunk))
+            closest[s], face[s] = nearest_of_pairs(tri, chunk, pi, fi)
+        return closest, face
+
     @cached_property
     def _grid(self) -> _ColumnGrid:
         return _ColumnGrid(self.triangles)
@@ -307,31 +332,6 @@ def truth_arg(value: Any, name: str) -> Any:
     return value
 
 
-def sample_triangles(
-    triangles: Array, areas: Array, count: int, rng: np.random.Generator
-) -> tuple[Array, NDArray[np.int64]]:
-    """Points uniform by area on a set of triangles.
-
-    Args:
-        triangles: (m, 3, 3) float, triangle vertices [m].
-        areas: (m,) float, their areas [m^2].
-        count: number of points.
-        rng: the generator (draws the faces, then the barycentric coordinates).
-
-    Returns:
-        points (count, 3) [m] and the index (count,) of the triangle of each.
-    """
-    cumulative = np.cumsum(areas)
-    face = np.searchsorted(cumulative, rng.uniform(0.0, cumulative[-1], count), side="right")
-    face = np.minimum(face, len(cumulative) - 1)
-    r = rng.random((count, 2))
-    flip = r.sum(axis=1) > 1.0
-    r[flip] = 1.0 - r[flip]
-    t = triangles[face]
-    points = t[:, 0] + r[:, :1] * (t[:, 1] - t[:, 0]) + r[:, 1:] * (t[:, 2] - t[:, 0])
-    return points, face
-
-
 def _check_closed(faces: NDArray[np.int64], n_vertices: int) -> None:
     """Raise unless every directed edge occurs once and its reverse once (closed, oriented)."""
     a = faces.ravel()
@@ -411,4 +411,4 @@ class _ColumnGrid:
         return (hits % 2) == 1
 
 
-__all__ = ["MeshSolid", "sample_triangles", "truth_arg"]
+__all__ = ["MeshSolid", "truth_arg"]

@@ -25,6 +25,7 @@ from hapticsim._validate import as_generator, points_array, positive_int
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh import surface_grid
 from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.geometry.triangles import closest_point_on_triangles
 
 Array = NDArray[np.float64]
 
@@ -77,43 +78,6 @@ class _Surface:
         nearest = closest_point_on_triangles(self.triangles[idx.ravel()], query)
         dist = np.linalg.norm(nearest - query, axis=1)
         return np.where(np.isfinite(dist), dist, np.inf).reshape(-1, k).min(axis=1)
-
-
-def closest_point_on_triangles(triangles: Array, points: Array) -> Array:
-    """Closest point of each triangle to its point (Ericson, Real-Time Collision Detection 5.1.5).
-
-    Args:
-        triangles: (n, 3, 3) float, vertices a, b, c of n triangles [m].
-        points: (n, 3) float, one query point per triangle [m].
-
-    Returns:
-        (n, 3) float closest points [m]. Degenerate (zero-area) triangles mostly fall into an
-        edge or vertex region; where none holds the result is NaN, which callers must skip.
-    """
-    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    ab, ac = b - a, c - a
-    ap, bp, cp = points - a, points - b, points - c
-    d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
-    d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
-    d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        denom = 1.0 / (va + vb + vc)
-        out = a + ab * (vb * denom)[:, None] + ac * (vc * denom)[:, None]  # inside the face
-        # Voronoi regions of edges and vertices, applied from the last test to the first so
-        # that the first one that holds wins, as in Ericson's sequence of early returns.
-        w_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        regions = [
-            ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), b + (c - b) * w_bc[:, None]),
-            ((vb <= 0) & (d2 >= 0) & (d6 <= 0), a + ac * (d2 / (d2 - d6))[:, None]),
-            ((d6 >= 0) & (d5 <= d6), c),
-            ((vc <= 0) & (d1 >= 0) & (d3 <= 0), a + ab * (d1 / (d1 - d3))[:, None]),
-            ((d3 >= 0) & (d4 <= d3), b),
-            ((d1 <= 0) & (d2 <= 0), a),
-        ]
-        for mask, value in regions:
-            out = np.where(mask[:, None], value, out)
-    return out
 
 
 def sample_surface(

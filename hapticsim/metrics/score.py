@@ -10,6 +10,7 @@ import numpy as np
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.superquadric import superquadric_arg
 from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer
 from hapticsim.metrics.volume import DEFAULT_VOLUME_SAMPLES, volume_overlap
@@ -65,9 +66,16 @@ class Score:
         }
 
 
+def seed_text(rng: np.random.Generator | int | None) -> str:
+    """How a score's random numbers were seeded, for its ``volume_method``."""
+    if isinstance(rng, np.random.Generator):
+        return "a caller's Generator"
+    return "no seed" if rng is None else f"seed {rng}"
+
+
 def score(
     estimate: Superquadric,
-    truth: Superquadric,
+    truth: Superquadric | MeshSolid,
     rng: np.random.Generator | int | None = 0,
     volume_samples: int = DEFAULT_VOLUME_SAMPLES,
     chamfer_samples: int = DEFAULT_CHAMFER_SAMPLES,
@@ -81,7 +89,9 @@ def score(
 
     Args:
         estimate: the estimated superquadric S_e.
-        truth: the true superquadric S_s.
+        truth: the true superquadric S_s, or a
+            :class:`~hapticsim.geometry.mesh_solid.MeshSolid` (then
+            :func:`~hapticsim.metrics.mesh_truth.score_mesh` scores against the mesh).
         rng: seed or generator.
         volume_samples: points drawn inside each solid, >= 1.
         chamfer_samples: points drawn on each surface, >= 1.
@@ -89,14 +99,15 @@ def score(
     Returns:
         The :class:`Score`.
     """
+    if isinstance(truth, MeshSolid):  # a mesh truth: hapticsim.metrics.mesh_truth
+        from hapticsim.metrics.mesh_truth import score_mesh
+
+        return score_mesh(estimate, truth, rng, volume_samples, chamfer_samples)
     estimate = superquadric_arg(estimate, "estimate")
     truth = superquadric_arg(truth, "truth")
     n_vol = positive_int(volume_samples, "volume_samples")
     n_cd = positive_int(chamfer_samples, "chamfer_samples")
-    if isinstance(rng, np.random.Generator):
-        seed = "a caller's Generator"
-    else:
-        seed = "no seed" if rng is None else f"seed {rng}"
+    seed = seed_text(rng)
     gen = as_generator(rng)
     volumes = volume_overlap(estimate, truth, samples=n_vol, rng=gen)
     distance = chamfer(estimate, truth, samples=n_cd, rng=gen)

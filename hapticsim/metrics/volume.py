@@ -137,6 +137,22 @@ class VolumeOverlap:
         )
 
 
+def intersection_and_iou(
+    alpha: float, beta: float, v_e: float, v_s: float, samples: int
+) -> tuple[float, float]:
+    """``V(S_e ∩ S_s)`` [m^3] and IoU from Monte Carlo alpha and beta and exact volumes.
+
+    Two estimates of the intersection, ``V_e (1 - alpha)`` and ``V_s (1 - beta)``, weighted by
+    their inverse variances (``+ 1/samples`` keeps the weights finite at p = 0).
+    """
+    w_e = 1.0 / (v_e**2 * (alpha * (1.0 - alpha) + 1.0 / samples))
+    w_s = 1.0 / (v_s**2 * (beta * (1.0 - beta) + 1.0 / samples))
+    inter = (w_e * v_e * (1.0 - alpha) + w_s * v_s * (1.0 - beta)) / (w_e + w_s)
+    inter = min(inter, v_e, v_s)
+    iou = inter / (v_e + v_s - inter)
+    return float(inter), float(min(max(iou, 0.0), 1.0))
+
+
 def volume_overlap(
     estimate: Superquadric,
     truth: Superquadric,
@@ -163,16 +179,11 @@ def volume_overlap(
     alpha = float(np.count_nonzero(_outside(truth, sample_interior(estimate, n, gen)))) / n
     beta = float(np.count_nonzero(_outside(estimate, sample_interior(truth, n, gen)))) / n
     v_e, v_s = estimate.volume, truth.volume
-    # Two estimates of the intersection; weights 1/variance (+1/n keeps them finite at p = 0).
-    w_e = 1.0 / (v_e**2 * (alpha * (1.0 - alpha) + 1.0 / n))
-    w_s = 1.0 / (v_s**2 * (beta * (1.0 - beta) + 1.0 / n))
-    inter = (w_e * v_e * (1.0 - alpha) + w_s * v_s * (1.0 - beta)) / (w_e + w_s)
-    inter = min(inter, v_e, v_s)
-    iou = inter / (v_e + v_s - inter)
+    inter, iou = intersection_and_iou(alpha, beta, v_e, v_s, n)
     return VolumeOverlap(
         alpha=alpha,
         beta=beta,
-        iou=float(min(max(iou, 0.0), 1.0)),
+        iou=iou,
         volume_estimate=v_e,
         volume_truth=v_s,
         volume_intersection=float(inter),
@@ -226,6 +237,7 @@ __all__ = [
     "alpha",
     "beta",
     "epsilon",
+    "intersection_and_iou",
     "iou",
     "sample_interior",
     "volume_overlap",

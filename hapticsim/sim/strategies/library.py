@@ -137,7 +137,8 @@ def sweep_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> 
 
 @register("paper")
 def paper_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> None:
-    """The paper's composition (module docstring)."""
+    """The paper's composition: a corner patch and three-finger sweeps across edges on bodies
+    with edges, patches on round ones (module docstring)."""
     if explorer.rough.has_edges:
         n_corner = max(count // 7, 6)
         explorer.probe_patch(INDEX, corner_probes(explorer.rough, PAPER_CORNER, n_corner, rng))
