@@ -5,7 +5,8 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
 
 - a **probe** casts the approach ray ``origin + s * d, s from far to 0`` (``d`` the approach
   direction) and returns the first point where the inside-outside function ``F <= 1``, found on a
-  coarse grid then refined on two finer ones (resolution: search length / 4e5);
+  coarse grid then refined on two finer ones, within the ray's chord through the bounding sphere
+  (resolution: chord / 6e4, about 2e-6 m);
 - a **stroke** follows the contour in a plane, like the hand's contour-following controller: the
   plane through the first contact spanned by its normal and the stroke direction; contacts lie
   every ``stroke_spacing`` metres of arc length along that section (:func:`section_walk`), so the
@@ -35,6 +36,8 @@ from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry._eof_compiled import unpack
+from hapticsim.geometry._rays_compiled import first_hits
 from hapticsim.geometry.mesh_solid import MeshSolid
 
 Array = NDArray[np.float64]
@@ -42,9 +45,9 @@ Array = NDArray[np.float64]
 #: Fingers of the analytic hand (the MuJoCo hand's count when it is available).
 DEFAULT_FINGERS: int = 4
 #: Grid points of the coarse search along an approach ray.
-_RAY_GRID: int = 192
+_RAY_GRID: int = 64
 #: Grid points of each refinement.
-_REFINE_GRID: int = 48
+_REFINE_GRID: int = 32
 #: Rays from inside a stroke's section that sample its curve.
 _SECTION_RAYS: int = 160
 
@@ -60,8 +63,11 @@ def raycast_many(
 
     The ray ``origin + s * direction``, ``s in [0, length]``, is sampled on a coarse grid of
     ``grids[0]`` points and the first step into the solid (``F <= 1``) is refined on finer grids,
-    so the distance is accurate to ``length / prod(g - 1 for g in grids)`` (1.4e-6 m for 0.6 m
-    with the default grids) for rays that do not graze the surface.
+    so the distance is accurate to ``chord / prod(g - 1 for g in grids)`` for rays that do not
+    graze the surface, the chord being the ray's part inside the bounding sphere (2e-6 m for a
+    12 cm chord with the default grids). Compiled
+    (:func:`hapticsim.geometry._rays_compiled.first_hits`): only the chord is searched, and each
+    level stops at its first sample inside.
 
     Args:
         shape: the superquadric.
@@ -73,6 +79,16 @@ def raycast_many(
     Returns:
         (k,) float, s [m] of the first intersection, NaN for rays that do not enter the solid.
     """
+    if isinstance(shape, Superquadric):
+        origins = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3).T)
+        directions = np.ascontiguousarray(np.asarray(directions, dtype=np.float64).reshape(-1, 3).T)
+        out = np.empty(origins.shape[1])
+        first_hits(
+            origins, directions, float(length), np.asarray(grids, dtype=np.int64), *unpack(shape),
+            1.0001 * shape.bounding_radius, out,
+        )  # fmt: skip
+        return out
+    # A mesh solid: its containment test on the grids, vectorised by numpy.
     origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
     directions = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     k = len(origins)
@@ -172,7 +188,7 @@ def section_walk(
     sign = 1.0 if direction @ e2 >= 0 else -1.0  # walk towards the stroke direction
     theta = sign * np.linspace(0.0, 2.0 * np.pi, _SECTION_RAYS)
     rays = np.cos(theta)[:, None] * e1 + np.sin(theta)[:, None] * e2
-    curve = center + _boundary(shape, center, rays, reach, (64, 32, 32))[:, None] * rays
+    curve = center + _boundary(shape, center, rays, reach, (32, 16, 16))[:, None] * rays
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
     targets = spacing * np.arange(1, n_steps + 1)
     targets = targets[targets < arc[-1] - spacing]  # not all the way round
@@ -194,7 +210,7 @@ def _boundary(
     inside: Array,
     rays: Array,
     reach: float,
-    grids: tuple[int, ...] = (96, 48, 48),
+    grids: tuple[int, ...] = (_RAY_GRID, _REFINE_GRID, _REFINE_GRID),
 ) -> Array:
     """(k,) distances [m] from an interior point along unit `rays` to the surface."""
     s = raycast_many(shape, inside + reach * rays, -rays, reach, grids=grids)

@@ -41,9 +41,6 @@ BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: Bound of the scaled coordinates in the observation (points, fit); values are clipped to it.
 OBS_BOUND: float = 10.0
-#: Mesh resolution (longitudes) of the Chamfer distance in info: a coarser mesh than the
-#: metric's default (96) keeps a step fast; its chords add about 1e-4 m to the distance.
-CHAMFER_RESOLUTION: int = 48
 #: Unit sphere directions on which the coverage uncertainty is evaluated.
 _N_COVERAGE: int = 256
 
@@ -92,11 +89,11 @@ class HapticExploreConfig:
         compute_metrics: score the estimate against the truth every step (info); forced on for
             ``reward="epsilon"`` and ``target_epsilon``.
         metric_samples: Monte Carlo samples inside each solid for alpha, beta, epsilon and IoU
-            (:func:`hapticsim.metrics.volume_overlap`; standard error <= 0.5 / sqrt(samples):
-            0.005 at the default 10,000; the same seed every step, so successive scores share
-            their random numbers).
-        chamfer_samples: surface samples of the Chamfer distance (:func:`hapticsim.metrics.chamfer`
-            on meshes of :data:`CHAMFER_RESOLUTION` longitudes).
+            (:class:`hapticsim.metrics.episode.TruthScorer`; standard error <= 0.5 /
+            sqrt(samples): 0.005 at the default 10,000; the random numbers are drawn once, so
+            successive scores share them and their difference, the reward, is far less noisy).
+        chamfer_samples: surface points per shape of the Chamfer distance (area-weighted, exact
+            point-to-surface distances; same scorer).
         width, height: size of rendered pictures [pixels].
     """
 
@@ -401,6 +398,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._truth: Superquadric | MeshSolid | None = None
         self._rough = None
         self._mesh_scorer = None
+        self._truth_scorer = None
         self._origin = np.zeros(3)
         self._clear()
 
@@ -556,18 +554,21 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self._mesh_scorer is not None:  # a mesh truth
             self._scored = estimate
             return self._mesh_scorer(estimate)
-        from hapticsim.metrics import chamfer, volume_overlap
-
-        volumes = volume_overlap(estimate, self._truth, self.config.metric_samples, rng=0)
-        distance = chamfer(
-            estimate, self._truth, self.config.chamfer_samples, rng=1, resolution=CHAMFER_RESOLUTION
-        )
         self._scored = estimate
-        return {
-            "alpha": float(volumes.alpha), "beta": float(volumes.beta),
-            "epsilon": float(volumes.alpha + volumes.beta), "iou": float(volumes.iou),
-            "chamfer": float(distance),
-        }  # fmt: skip
+        return self._scorer().score(estimate).to_dict()
+
+    def _scorer(self):  # noqa: ANN202 - hapticsim.metrics.episode.TruthScorer
+        """The scorer of this episode's truth (made on first use, its random numbers fixed)."""
+        if self._truth_scorer is None or self._truth_scorer.truth is not self._truth:
+            from hapticsim.metrics.episode import TruthScorer
+
+            if self._truth_scorer is None:
+                self._truth_scorer = TruthScorer(
+                    self._truth, self.config.metric_samples, self.config.chamfer_samples, rng=0
+                )
+            else:
+                self._truth_scorer = self._truth_scorer.with_truth(self._truth, rng=0)
+        return self._truth_scorer
 
     def _progress_value(self, points: Array) -> float:
         estimate = self._update.estimate

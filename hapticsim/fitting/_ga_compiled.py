@@ -45,6 +45,12 @@ def _symmetry_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
 
 
 SYMMETRIES, SYM_A, SYM_T, SYM_SIGN = _symmetry_tables()
+#: Each S is a signed permutation: column i of S has its one entry SYM_VAL[s, i] in row
+#: SYM_IDX[s, i], so ``(R S)[:, i] = SYM_VAL[s, i] R[:, SYM_IDX[s, i]]``.
+SYM_IDX = np.argmax(np.abs(SYMMETRIES), axis=1).astype(np.int64)
+SYM_VAL = np.take_along_axis(SYMMETRIES, SYM_IDX[:, None, :], axis=1)[:, 0, :].copy()
+#: The tables :func:`align` takes.
+TABLES = (SYM_IDX, SYM_VAL, SYM_A, SYM_T, SYM_SIGN)
 #: Quarter turns about body x and y (not symmetries): R -> R J, a -> a[perm].
 JUMP_MATS = np.array(
     [
@@ -53,6 +59,13 @@ JUMP_MATS = np.array(
     ]
 )
 JUMP_PERM = np.array([[0, 2, 1], [2, 1, 0]], dtype=np.int64)
+
+
+@njit(**JIT)
+def _copy3(a: np.ndarray, out: np.ndarray) -> None:
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, j]
 
 
 @njit(**JIT)
@@ -65,19 +78,20 @@ def _matmul3(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:
 @njit(**JIT)
 def align(
     ref: np.ndarray, rot: np.ndarray, genes: np.ndarray, out_genes: np.ndarray,
-    out_rot: np.ndarray, sym: np.ndarray, sym_a: np.ndarray, sym_t: np.ndarray,
-    sym_sign: np.ndarray,
+    out_rot: np.ndarray, sym_idx: np.ndarray, sym_val: np.ndarray, sym_a: np.ndarray,
+    sym_t: np.ndarray, sym_sign: np.ndarray,
 ) -> None:  # fmt: skip
     """One solid (genes (13,), rotation (3, 3)) rewritten among its 8 equivalent parameter sets
     into the one whose rotation is closest to `ref` (largest ``trace(ref^T R S)``)."""
+    # trace(ref^T R S) = sum_i (ref^T R)[i, idx_i] val_i for the signed permutation S.
     best, best_score = 0, -math.inf
     for s in range(8):
-        # trace(ref^T R S) = sum_ijk ref_ji R_jk S_ki
         score = 0.0
         for i in range(3):
-            for j in range(3):
-                rs = rot[j, 0] * sym[s, 0, i] + rot[j, 1] * sym[s, 1, i] + rot[j, 2] * sym[s, 2, i]
-                score += ref[j, i] * rs
+            j = sym_idx[s, i]
+            score += (ref[0, i] * rot[0, j] + ref[1, i] * rot[1, j] + ref[2, i] * rot[2, j]) * (
+                sym_val[s, i]
+            )
         if score > best_score:
             best, best_score = s, score
     for k in range(NP):
@@ -86,17 +100,19 @@ def align(
         out_genes[k] = genes[sym_a[best, k]]
     for k in range(2):
         out_genes[5 + k] = genes[5 + sym_t[best, k]] * sym_sign[best]
-    _matmul3(rot, sym[best], out_rot)
+    for i in range(3):
+        col, val = sym_idx[best, i], sym_val[best, i]
+        for j in range(3):
+            out_rot[j, i] = rot[j, col] * val
 
 
 @njit(**JIT)
 def solid_distance(
     genes: np.ndarray, rot: np.ndarray, other: np.ndarray, other_rot: np.ndarray, size: float,
-    tables: tuple,
+    tables: tuple, aligned: np.ndarray, aligned_rot: np.ndarray,
 ) -> float:  # fmt: skip
-    """The dimensionless distance of :func:`hapticsim.fitting.genetic.solid_distance`."""
-    aligned = np.empty(NP)
-    aligned_rot = np.empty((3, 3))
+    """The dimensionless distance of :func:`hapticsim.fitting.genetic.solid_distance`
+    (`aligned` (13,) and `aligned_rot` (3, 3) are scratch)."""
     align(other_rot, rot, genes, aligned, aligned_rot, *tables)
     cos = -1.0
     for i in range(3):
@@ -114,6 +130,17 @@ def solid_distance(
     for k in range(3, 7):
         d_s += abs(aligned[k] - other[k])
     return math.acos(cos) / 0.5 + d_a / 0.3 + d_c / (0.2 * size) + d_s / 0.5
+
+
+@njit(**JIT)
+def distance_bound(genes: np.ndarray, other: np.ndarray, size: float) -> float:
+    """A lower bound of :func:`solid_distance` from its terms that no re-parametrisation changes
+    (the centre and the shape exponents): no alignment needed."""
+    d_c = math.sqrt(
+        (genes[10] - other[10]) ** 2 + (genes[11] - other[11]) ** 2
+        + (genes[12] - other[12]) ** 2
+    )  # fmt: skip
+    return d_c / (0.2 * size) + (abs(genes[3] - other[3]) + abs(genes[4] - other[4])) / 0.5
 
 
 @njit(**JIT)
@@ -182,7 +209,7 @@ def offspring(
         child, crot = kids[c], kid_rot[c]
         if rng.random() < settings[1]:
             for k in range(NP):
-                w[k] = rng.uniform(-0.25, 1.25)
+                w[k] = -0.25 + 1.5 * rng.random()
             for k in range(NP):
                 child[k] = p1[k] + w[k] * (p2[k] - p1[k])
             for k in range(3):  # geometric blend of the semi-axes
@@ -215,7 +242,7 @@ def offspring(
                 axis[k] /= norm
             _axis_angle(axis, shrink * settings[7] * rng.standard_normal(), turn)
             _matmul3(turn, crot, tmp)
-            crot[:, :] = tmp
+            _copy3(tmp, crot)
         if rng.random() < settings[2]:
             for k in range(10, 13):
                 child[k] += shrink * settings[8] * size * rng.standard_normal()
@@ -223,7 +250,7 @@ def offspring(
         if rng.random() < settings[3]:
             which = rng.integers(0, 2)
             _matmul3(crot, JUMP_MATS[which], tmp)
-            crot[:, :] = tmp
+            _copy3(tmp, crot)
             a0, a1, a2 = child[0], child[1], child[2]
             old = (a0, a1, a2)
             for k in range(3):
@@ -276,7 +303,7 @@ def ga_run(
     Returns:
         ``(count, generations, evaluations, status, n_hist)``.
     """
-    tables = (SYMMETRIES, SYM_A, SYM_T, SYM_SIGN)
+    tables = TABLES
     n = population
     k = min(seeds.shape[0], cap)
     total = k
@@ -311,6 +338,8 @@ def ga_run(
     kids = np.empty((count, NP))
     kid_rot = np.empty((count, 3, 3))
     kid_eof = np.empty(count)
+    scratch, scratch_rot = np.empty(NP), np.empty((3, 3))
+    pool = np.arange(count)
     generations, stall, status = 0, 0, STATUS_BUDGET
     while True:
         children = count if crowding else count - elite
@@ -340,10 +369,17 @@ def ga_run(
             # Restricted tournament replacement: each child meets `window` random individuals
             # and replaces the most similar one if it is fitter.
             for c in range(children):
-                entrants = rng.permutation(count)[:window]
-                nearest, near = entrants[0], math.inf
-                for j in entrants:
-                    d = solid_distance(kids[c], kid_rot[c], genes[j], rot[j], size, tables)
+                # `window` distinct individuals: a partial Fisher-Yates shuffle of `pool`.
+                for j in range(window):
+                    r = rng.integers(j, count)
+                    pool[j], pool[r] = pool[r], pool[j]
+                nearest, near = pool[0], math.inf
+                for j in pool[:window]:
+                    if distance_bound(kids[c], genes[j], size) >= near:
+                        continue  # cannot be the nearest: skip the alignment
+                    d = solid_distance(
+                        kids[c], kid_rot[c], genes[j], rot[j], size, tables, scratch, scratch_rot
+                    )
                     if d < near:
                         nearest, near = j, d
                 if kid_eof[c] < eof[nearest]:
@@ -375,8 +411,7 @@ def align_many(
 ) -> None:  # fmt: skip
     """:func:`align` row by row: (P, 3, 3), (P, 3, 3), (P, 13) into (P, 13), (P, 3, 3)."""
     for p in range(genes.shape[0]):
-        align(ref[p], rot[p], genes[p], out_genes[p], out_rot[p], SYMMETRIES, SYM_A, SYM_T,
-              SYM_SIGN)  # fmt: skip
+        align(ref[p], rot[p], genes[p], out_genes[p], out_rot[p], *TABLES)
 
 
 @njit(**JIT)
@@ -385,6 +420,9 @@ def solid_distance_many(
     out: np.ndarray,
 ) -> None:  # fmt: skip
     """:func:`solid_distance` row by row into `out` (P,)."""
-    tables = (SYMMETRIES, SYM_A, SYM_T, SYM_SIGN)
+    tables = TABLES
+    scratch, scratch_rot = np.empty(NP), np.empty((3, 3))
     for p in range(genes.shape[0]):
-        out[p] = solid_distance(genes[p], rot[p], other[p], other_rot[p], size, tables)
+        out[p] = solid_distance(
+            genes[p], rot[p], other[p], other_rot[p], size, tables, scratch, scratch_rot
+        )

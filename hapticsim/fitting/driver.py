@@ -98,21 +98,20 @@ def fit(
         raise InvalidInputError(f'`budget` must be >= 2 with distance="{distance}", got {n_evals}')
 
     start = time.perf_counter()
-    with _single_threaded_blas():
-        # A search in another metric keeps one evaluation back to report the SPEC EOF.
-        data_normals = nrm if uses_normals(method) else None
-        objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
-        if method in HYBRID_METHODS:
-            seeds = seed_vectors(pts, objective.normals, warm)
-            _, status = hybrid_search(objective, seeds, gen, HybridOptions())
-        else:
-            x0 = (warm if warm is not None else paper_initial(pts)).to_vector()
-            status = least_squares_run(objective, x0).status
-        best = objective.best_vector
-        evaluations, eof = objective.evaluations, objective.best_eof
-        if not spec:
-            report = Objective(pts, data_normals, weight, 1)
-            eof, evaluations = float(report.eof(best[None])[0]), evaluations + 1
+    # A search in another metric keeps one evaluation back to report the SPEC EOF.
+    data_normals = nrm if uses_normals(method) else None
+    objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
+    if method in HYBRID_METHODS:
+        seeds = seed_vectors(pts, objective.normals, warm)
+        _, status = hybrid_search(objective, seeds, gen, HybridOptions())
+    else:
+        x0 = (warm if warm is not None else paper_initial(pts)).to_vector()
+        status = least_squares_run(objective, x0).status
+    best = objective.best_vector
+    evaluations, eof = objective.evaluations, objective.best_eof
+    if not spec:
+        r = objective.contacts.residuals(best, weight, tapered=False)  # the SPEC §2 EOF
+        eof, evaluations = float(np.mean(r**2)), evaluations + 1
     seconds = time.perf_counter() - start
     return FitResult(
         superquadric=Superquadric.from_vector(best),
@@ -134,21 +133,3 @@ _MESSAGES = {
     "target": "target EOF reached",
     "iterations": "least-squares step limit reached",
 }
-
-
-_CONTROLLER: Any = None
-
-
-def _single_threaded_blas() -> Any:
-    """Limit BLAS to one thread during a fit.
-
-    A guard: threaded OpenBLAS can slow small least-squares products down many times. With the
-    population EOF's (3P, 4) x (4, n) products and scipy's 150 x 13 systems we measured no
-    difference on this 2-vCPU machine either way (nLS 0.26 s, nH 0.38 s CPU, limited or not).
-    """
-    global _CONTROLLER
-    if _CONTROLLER is None:
-        from threadpoolctl import ThreadpoolController
-
-        _CONTROLLER = ThreadpoolController()
-    return _CONTROLLER.limit(limits=1, user_api="blas")

@@ -154,29 +154,33 @@ def distinct_frames(frames: list[Array]) -> list[Array]:
     return kept
 
 
-def _frame_seed(
-    points_world: Array, normals_world: Array | None, rotation: Array
+def _frame_seeds(
+    points_world: Array, normals_world: Array | None, rotations: Array
 ) -> tuple[Array, Array]:
-    """Centre [m] and semi-axes [m] of a box in the frame, pushed behind one-sided faces.
+    """Centres [m] (R, 3) and semi-axes [m] (R, 3) of boxes in R frames (R, 3, 3), pushed behind
+    one-sided faces.
 
     Along each axis the contacts span [lo, hi]. Where the normals show only the face at hi
     (or lo), the body lies behind it: the semi-axis is at least the mean of the other two, and
     the centre sits that far inside the face.
     """
-    proj = points_world @ rotation
-    lo, hi = proj.min(axis=0), proj.max(axis=0)
-    half = np.maximum((hi - lo) / 2.0, 1e-3 * max(float((hi - lo).max()), 1e-12))
+    proj = np.einsum("nj,rjk->rnk", points_world, rotations)  # (R, n, 3)
+    lo, hi = proj.min(axis=1), proj.max(axis=1)
+    span = hi - lo
+    half = np.maximum(span / 2.0, 1e-3 * np.maximum(span.max(axis=1, keepdims=True), 1e-12))
     mid = (lo + hi) / 2.0
     if normals_world is not None:
-        along = normals_world @ rotation
-        for k in range(3):
-            plus = bool(np.any(along[:, k] > np.cos(FACE_CONE)))
-            minus = bool(np.any(along[:, k] < -np.cos(FACE_CONE)))
-            if plus != minus:
-                depth = max(half[k], float(np.mean(np.delete(half, k))))
-                half[k] = depth
-                mid[k] = hi[k] - depth if plus else lo[k] + depth
-    return rotation @ mid, half
+        along = np.einsum("nj,rjk->rnk", normals_world, rotations)
+        plus = np.any(along > np.cos(FACE_CONE), axis=1)
+        minus = np.any(along < -np.cos(FACE_CONE), axis=1)
+        for k in range(3):  # in turn: a deepened axis counts for the next ones
+            others = (half.sum(axis=1) - half[:, k]) / 2.0  # mean of the other two
+            depth = np.maximum(half[:, k], others)
+            sided = plus[:, k] != minus[:, k]
+            mid[:, k] = np.where(sided, np.where(plus[:, k], hi[:, k] - depth, lo[:, k] + depth),
+                                 mid[:, k])  # fmt: skip
+            half[:, k] = np.where(sided, depth, half[:, k])
+    return np.einsum("rjk,rk->rj", rotations, mid), half
 
 
 def seed_vectors(
@@ -187,7 +191,7 @@ def seed_vectors(
     Frames: the principal axes of the points and, with normals, :func:`normal_frames`, less those
     that repeat an earlier one (:func:`distinct_frames`). For each frame and each choice of its z
     axis (cyclic permutations of the columns, which keep det = +1), a box-like placement
-    (:func:`_frame_seed`) with each shape of :data:`SEED_SHAPES`, no taper. The paper's initial
+    (:func:`_frame_seeds`) with each shape of :data:`SEED_SHAPES`, no taper. The paper's initial
     estimate comes first, and `initial` (a warm start) before it.
     """
     seeds = []
@@ -197,13 +201,17 @@ def seed_vectors(
     frames = [principal_axes(points_world)]
     if normals_world is not None:
         frames += normal_frames(normals_world)
-    for frame in distinct_frames(frames):
-        for shift in range(3):
-            rotation = np.roll(frame, shift, axis=1)
-            center, half = _frame_seed(points_world, normals_world, rotation)
-            rotvec = matrix_to_rotvec(rotation)
-            for eps in SEED_SHAPES:
-                v = np.empty(N_PARAMS)
-                v[0:3], v[3:5], v[5:7], v[7:10], v[10:13] = half, eps, 0.0, rotvec, center
-                seeds.append(v)
-    return np.array(seeds)
+    # Each distinct frame with each of its axes as z (cyclic shifts of the columns, det = +1).
+    rotations = np.array(
+        [np.roll(frame, shift, axis=1) for frame in distinct_frames(frames) for shift in range(3)]
+    )
+    centers, halves = _frame_seeds(points_world, normals_world, rotations)
+    rotvecs = matrix_to_rotvec(rotations)
+    shapes = np.asarray(SEED_SHAPES, dtype=np.float64)
+    block = np.empty((len(rotations), len(shapes), N_PARAMS))
+    block[:, :, 0:3] = halves[:, None, :]
+    block[:, :, 3:5] = shapes[None, :, :]
+    block[:, :, 5:7] = 0.0
+    block[:, :, 7:10] = rotvecs[:, None, :]
+    block[:, :, 10:13] = centers[:, None, :]
+    return np.concatenate([np.array(seeds), block.reshape(-1, N_PARAMS)])

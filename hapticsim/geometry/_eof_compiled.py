@@ -60,6 +60,13 @@ JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INLINE = {"inline": "always", **JIT}
 
 
+def unpack(sq) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001 - a Superquadric
+    """``(shape (7,), rot (3, 3), center (3,))`` of a superquadric, for the compiled helpers of
+    single solids: shape = (a1, a2, a3, eps1, eps2, tx, ty) [m, 1, 1]."""
+    shape = np.concatenate([sq.a, sq.eps, sq.taper])
+    return shape, np.ascontiguousarray(sq.rotation), np.ascontiguousarray(sq.center)
+
+
 # ---------------------------------------------------------------------------- elementary
 @intrinsic
 def _f64_bits(typingctx, x):  # type: ignore[no-untyped-def]
@@ -164,6 +171,39 @@ def _sign(x: float) -> float:
     return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
 
 
+# ---------------------------------------------------------------------------- one point
+@njit(**_INLINE)
+def untapered(
+    px: float, py: float, pz: float, a3: float, tx: float, ty: float
+) -> tuple[float, float, float, float]:
+    """``(x_s, y_s, f_x, f_y)``: a tapered body point's untapered x, y and its taper factors
+    ``max(1 + t z / a3, MIN_TAPER_FACTOR)`` (paper eq. 2)."""
+    ia3 = 1.0 / a3
+    fx = max(1.0 + tx * ia3 * pz, MIN_TAPER_FACTOR)
+    fy = max(1.0 + ty * ia3 * pz, MIN_TAPER_FACTOR)
+    return px / fx, py / fy, fx, fy
+
+
+@njit(**_INLINE)
+def log_inside_outside(
+    xs: float, ys: float, zs: float, a1: float, a2: float, a3: float, e1: float, e2: float
+) -> tuple[float, float, float, float, float]:
+    """The inside-outside function of an untapered body point in the log domain (SPEC §1).
+
+    The one compiled implementation of F. Returns ``(log F, phi_u, phi_v, psi_G, psi_W)``:
+    ``phi_u = |u|^(2/eps2) / g`` and ``phi_v`` (summing to 1), ``psi_G = g^(eps2/eps1) / F`` and
+    ``psi_W = |w|^(2/eps1) / F`` (summing to 1), from which the gradient follows
+    (``h_u = phi_u psi_G``, ``h_v = phi_v psi_G``, ``h_w = psi_W``).
+    """
+    lu = log_(abs(xs) * (1.0 / a1) + TINY)
+    lv = log_(abs(ys) * (1.0 / a2) + TINY)
+    lw = log_(abs(zs) * (1.0 / a3) + TINY)
+    k2 = 2.0 / e2
+    log_g, phu, phv = _logaddexp_shares(lu * k2, lv * k2)
+    log_f, psg, psw = _logaddexp_shares(log_g * (e2 / e1), lw * (2.0 / e1))
+    return log_f, phu, phv, psg, psw
+
+
 # ---------------------------------------------------------------------------- one contact
 @njit(**_INLINE)
 def contact_residual(
@@ -175,15 +215,8 @@ def contact_residual(
     term's weight ``2 lambda sigma`` [m]."""
     ia3 = 1.0 / a3
     ta, tb = tx * ia3, ty * ia3
-    fx = max(1.0 + ta * pz, MIN_TAPER_FACTOR)
-    fy = max(1.0 + tb * pz, MIN_TAPER_FACTOR)
-    xs, ys = px / fx, py / fy
-    lu = log_(abs(xs) * (1.0 / a1) + TINY)
-    lv = log_(abs(ys) * (1.0 / a2) + TINY)
-    lw = log_(abs(pz) * ia3 + TINY)
-    k2 = 2.0 / e2
-    log_g, phu, phv = _logaddexp_shares(lu * k2, lv * k2)
-    log_f, psg, psw = _logaddexp_shares(log_g * (e2 / e1), lw * (2.0 / e1))
+    xs, ys, fx, fy = untapered(px, py, pz, a3, tx, ty)
+    log_f, phu, phv, psg, psw = log_inside_outside(xs, ys, pz, a1, a2, a3, e1, e2)
     s = exp_(log_f * (-0.5 * e1))
     if tapered:
         b = pz * (1.0 + s)

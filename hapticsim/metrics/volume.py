@@ -186,7 +186,7 @@ def volume_overlap(
         iou=iou,
         volume_estimate=v_e,
         volume_truth=v_s,
-        volume_intersection=float(inter),
+        volume_intersection=inter,
         samples=n,
     )
 
