@@ -39,6 +39,9 @@ if (
 BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 #: Reward definitions.
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
+#: Mesh resolution (longitudes) of the estimate in the Chamfer distance to a *mesh* truth
+#: (:class:`hapticsim.metrics.mesh_truth.MeshScorer`); its chords add about 1e-4 m.
+CHAMFER_RESOLUTION: int = 48
 #: Bound of the scaled coordinates in the observation (points, fit); values are clipped to it.
 OBS_BOUND: float = 10.0
 #: Unit sphere directions on which the coverage uncertainty is evaluated.
