@@ -43,8 +43,6 @@ from hapticsim.sim.rough import RoughObject
 
 Array = NDArray[np.float64]
 
-#: Number of fingers of ``models/hand.xml`` (0 thumb, 1 index, 2 middle, 3 ring).
-N_FINGERS: int = 4
 #: Shortest stroke worth a contour-following run [m]; shorter reachable strokes become probes.
 MIN_STROKE: float = 0.006
 #: Lead of the contour-following target along the tangent in a stroke [m]. It sets the sliding
@@ -62,22 +60,34 @@ class MujocoBackend(SupportedBackend):
         noise: relative sensor noise sigma_N (SPEC §5).
         stroke_spacing: distance between recorded contacts along a stroke [m].
         scene_config: scene options (:class:`hapticsim.sim.scene.SceneConfig`), default ones
-            if None.
-    """
+            if None; its hand is replaced by `hand` when that is given.
+        hand: the hand: a shipped name (``"hapticsim"``, ``"shadow"``, ``"adroit"``), a TOML
+            description path or a :class:`~hapticsim.sim.hand_description.HandDescription`
+            (default: the scene configuration's, hapticsim's own four-fingered hand).
 
-    n_fingers: int = N_FINGERS
+    Raises:
+        InvalidInputError: an unknown or invalid hand (the message names the problem).
+    """
 
     def __init__(
         self,
         noise: float = 0.0,
         stroke_spacing: float = 0.005,
         scene_config=None,  # noqa: ANN001 - hapticsim.sim.scene.SceneConfig
+        hand=None,  # noqa: ANN001 - str | Path | HandDescription
     ) -> None:
+        from dataclasses import replace
+
+        from hapticsim.sim.scene import SceneCache, SceneConfig
+
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-3, 0.05)
-        self.scene_config = scene_config
-        from hapticsim.sim.scene import SceneCache
-
+        config = SceneConfig() if scene_config is None else scene_config
+        if hand is not None:
+            config = replace(config, hand=hand)
+        self.scene_config = config
+        #: number of fingers of the hand (action component 4 selects one; 0 is the thumb).
+        self.n_fingers = len(config.hand.fingers)
         #: compiled scenes of the objects seen so far (a paper body comes back every few
         #: episodes; its scene is compiled once).
         self._scenes = SceneCache()
@@ -193,8 +203,6 @@ class MujocoBackend(SupportedBackend):
         """Plan and run a stroke; False when no useful stroke can be planned (then probe)."""
         from hapticsim.sim.controllers import Probe
         from hapticsim.sim.explorer import StripeSpec
-        from hapticsim.sim.hand import TIP_RADIUS
-        from hapticsim.sim.planning import SWEEP_POSTURE
 
         ex = self._explorer
         assert ex is not None
@@ -208,23 +216,26 @@ class MujocoBackend(SupportedBackend):
             return False
         direction, plane = stroke_plane(rough, aim, touch.stroke_angle)
         normals = rough.normals(path)
-        tips = path + TIP_RADIUS * normals
+        hand = ex.scene.hand
+        radius = hand.fingers[touch.finger].tip_radius
+        sweep_q = hand.posture(touch.finger, "sweep")
+        tips = path + radius * normals
         mid = len(path) // 2
         first = Probe(aim, -touch.approach)
-        entry = first.start(ex.config.probe.standoff)
+        entry = first.start(ex.config.probe.standoff, radius)
         best: tuple[int, object, Array] | None = None
         poses = ex.planner.probe_poses(
-            touch.finger, tips[mid], -normals[mid], SWEEP_POSTURE, y_axis_world=plane
+            touch.finger, tips[mid], -normals[mid], sweep_q, flexion_axis_world=plane
         )
         for pose in poses:
             if pose.score < -50:
                 continue
             q, err = ex.planner.kin.ik(
-                touch.finger, entry, pose.position, pose.rotation, SWEEP_POSTURE
+                touch.finger, entry, pose.position, pose.rotation, sweep_q
             )
             if err > 0.002:
                 continue
-            _, ok = ex.planner.reachable(touch.finger, pose, list(tips), SWEEP_POSTURE)
+            _, ok = ex.planner.reachable(touch.finger, pose, list(tips), sweep_q)
             last = 0
             while last + 1 < len(ok) and ok[last + 1]:
                 last += 1

@@ -11,7 +11,7 @@ and steps the controllers until they finish.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,12 +27,12 @@ from hapticsim.sim.controllers import (
     ProbeConfig,
     ProbeTask,
 )
-from hapticsim.sim.hand import TIP_RADIUS, finger_index
-from hapticsim.sim.planning import PROBE_POSTURE, PalmPlanner, PalmPose
+from hapticsim.sim.hand import finger_index
+from hapticsim.sim.planning import PalmPlanner, PalmPose
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import Scene, SceneConfig, build_scene
-from hapticsim.sim.simulator import TUCKED_POSTURE, Simulator
+from hapticsim.sim.simulator import Simulator
 
 Array = NDArray[np.float64]
 
@@ -47,9 +47,9 @@ PLACE_CLEARANCE: float = 0.001
 
 
 def planning_config(config: SceneConfig) -> SceneConfig:
-    """The build options of a planning scene for a scene built with `config`: the same
-    workspace, a coarser mesh (:data:`PLANNING_MESH_RESOLUTION`)."""
-    return SceneConfig(mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=config.workspace)
+    """The build options of a planning scene for a scene built with `config`: the same hand
+    and workspace, a coarser mesh (:data:`PLANNING_MESH_RESOLUTION`)."""
+    return replace(config, mesh_resolution=PLANNING_MESH_RESOLUTION)
 
 
 @dataclass(frozen=True)
@@ -288,7 +288,7 @@ class Explorer:
         back = pos - self._approach * self.config.back_off
         self._go(back, rot)
         for f in self.scene.hand.fingers:
-            sim.set_posture(f.index, TUCKED_POSTURE)
+            sim.set_posture(f.index, f.posture("tucked"))
         entry = pose.position - d_new * self.config.back_off
         far = c + (entry - c) * max(1.0, self.safe_radius / np.linalg.norm(entry - c))
         out = c + (back - c) * max(1.0, self.safe_radius / np.linalg.norm(back - c))
@@ -312,6 +312,8 @@ class Explorer:
     def run(self, tasks: Sequence[FingerTask]) -> None:
         """Step the controllers until all are done, the recorder is full or time runs out."""
         sim = self.sim
+        for t in tasks:
+            sim.hand.finger_index(t.finger)  # a finger the hand has
         limit = sim.time + self.config.pattern_timeout
         while not all(t.done for t in tasks):
             contacts = sim.tick()
@@ -346,13 +348,24 @@ class Explorer:
 
     # ------------------------------------------------------------------ patterns
     def probe_patch(
-        self, finger: int, probes: Sequence[Probe], posture: Array = PROBE_POSTURE
+        self, finger: int, probes: Sequence[Probe], posture: Array | None = None
     ) -> int:
         """Probe a patch with one finger; probes are grouped by palm pose.
+
+        Args:
+            finger: finger index.
+            probes: the probes.
+            posture: (n,) joint angles [rad] whose tip the palm pose puts on the patch
+                (default: the finger's ``probe`` posture).
 
         Returns:
             Number of contacts recorded.
         """
+        finger = self.scene.hand.finger_index(finger)
+        if posture is None:
+            posture = self.scene.hand.posture(finger, "probe")
+        radius = self.scene.hand.fingers[finger].tip_radius
+        standoff = self.config.probe.standoff
         remaining = list(probes)
         before = len(self.recorder)
         pattern = self.recorder.new_pattern("patch")
@@ -362,20 +375,19 @@ class Explorer:
             mean_dir /= np.linalg.norm(mean_dir)
             # tip of the nominal posture on the surface near the patch centre
             first = min(remaining, key=lambda p: np.linalg.norm(p.aim_world - mean_aim))
-            tip = first.aim_world - mean_dir * TIP_RADIUS
+            tip = first.aim_world - mean_dir * radius
             pose = self.planner.probe_poses(finger, tip, mean_dir, posture)[0]
             group, rest = [], []
             for p in remaining:
-                pts = [p.start(self.config.probe.standoff), p.aim_world + p.approach_world * 0.004]
+                pts = [p.start(standoff, radius), p.aim_world + p.approach_world * 0.004]
                 ok, _ = self.planner.reachable(finger, pose, pts, posture)
                 (group if ok else rest).append(p)
             if not group:  # the nominal posture itself reaches `first`'s aim
                 group, rest = [first], [p for p in remaining if p is not first]
             # move in with the tip already at the first probe's start point
             q, err = self.planner.kin.ik(
-                finger, group[0].start(self.config.probe.standoff), pose.position,
-                pose.rotation, posture,
-            )  # fmt: skip
+                finger, group[0].start(standoff, radius), pose.position, pose.rotation, posture
+            )
             self.move_palm(pose, mean_dir, {finger: q if err < 0.002 else posture})
             limit = self.config.max_misses - self.misses
             self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe, limit)])

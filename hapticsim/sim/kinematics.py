@@ -33,7 +33,7 @@ class HandKinematics:
         mujoco.mju_mat2Quat(quat, np.ascontiguousarray(palm_rot_world, dtype=np.float64).ravel())
         d.qpos[h.palm_qpos_adr : h.palm_qpos_adr + 3] = palm_world
         d.qpos[h.palm_qpos_adr + 3 : h.palm_qpos_adr + 7] = quat
-        d.qpos[h.fingers[finger].qpos_adr] = q
+        h.set_finger_qpos(d.qpos, finger, q)
         mujoco.mj_kinematics(self.model, d)
         mujoco.mj_comPos(self.model, d)
 
@@ -46,22 +46,14 @@ class HandKinematics:
         self._set(pos, rot, finger, q)
         return self.data.site_xpos[self.hand.fingers[finger].site_id].copy()
 
-    def distal_axis(self, finger: int, q: Array) -> Array:
-        """(3,) float, unit direction of the distal link (flex2 joint to tip), palm frame."""
-        self._set(np.zeros(3), np.eye(3), finger, q)
-        f = self.hand.fingers[finger]
-        body = int(self.model.jnt_bodyid[self.model.dof_jntid[f.dof_adr[2]]])
-        axis = self.data.site_xpos[f.site_id] - self.data.xpos[body]
-        return axis / np.linalg.norm(axis)
-
-    def points(self, finger: int, q: Array, palm_world: Array, palm_rot_world: Array) -> Array:
-        """(4, 3) float, finger base, proximal joint, distal joint and tip centre [m, world]."""
+    def base_and_tip(
+        self, finger: int, q: Array, palm_world: Array, palm_rot_world: Array
+    ) -> tuple[Array, Array]:
+        """The finger's base (origin of the body of its first joint) and tip centre, (3,) each
+        [m, world], for joint angles `q` and a palm pose."""
         self._set(palm_world, palm_rot_world, finger, q)
         f = self.hand.fingers[finger]
-        bodies = [int(self.model.jnt_bodyid[self.model.dof_jntid[a]]) for a in f.dof_adr]
-        d = self.data
-        return np.stack([d.xpos[bodies[0]], d.xpos[bodies[1]], d.xpos[bodies[2]],
-                         d.site_xpos[f.site_id]])  # fmt: skip
+        return self.data.xpos[f.base_body_id].copy(), self.data.site_xpos[f.site_id].copy()
 
     def ik(
         self,
@@ -79,17 +71,16 @@ class HandKinematics:
             finger: finger index.
             target_world: (3,) float, target of the tip centre [m].
             palm_world, palm_rot_world: palm pose (position [m], rotation (3, 3)).
-            q_init: (3,) float, starting joint angles [rad].
+            q_init: (n,) float, starting joint angles [rad].
             iterations: DLS iterations.
             damping: DLS damping [m].
 
         Returns:
-            q (3,) [rad] and the remaining distance to the target [m].
+            q (n,) [rad] and the remaining distance to the target [m].
         """
         f = self.hand.fingers[finger]
-        lo, hi = f.ctrl_range[:, 0], f.ctrl_range[:, 1]
+        lo, hi = f.ctrl_low, f.ctrl_high
         q = np.clip(np.asarray(q_init, dtype=np.float64), lo, hi)
-        jac = np.zeros((3, self.model.nv))
         best = np.inf
         stale = 0
         for _ in range(iterations):
@@ -103,8 +94,8 @@ class HandKinematics:
             best = min(best, err)
             if stale >= 4:
                 break
-            mujoco.mj_jacSite(self.model, self.data, jac, None, f.site_id)
-            q = np.clip(q + dls_step(jac[:, f.dof_adr], e, damping), lo, hi)
+            jac = self.hand.tip_jacobian(self.data, finger)
+            q = np.clip(q + dls_step(jac, e, damping), lo, hi)
         self._set(palm_world, palm_rot_world, finger, q)
         return q, norm(target_world - self.data.site_xpos[f.site_id])
 

@@ -20,15 +20,9 @@ from numpy.typing import NDArray
 from hapticsim.geometry.rotations import rotvec_to_matrix
 from hapticsim.sim.kinematics import HandKinematics
 from hapticsim.sim.scene import Scene
-from hapticsim.sim.simulator import TUCKED_POSTURE
 
 Array = NDArray[np.float64]
 
-#: Finger posture [rad] whose tip sits on the expected contact when probing: the finger can
-#: extend about 20 mm and flex about 15 mm along its radial direction from here.
-PROBE_POSTURE: Array = np.array([0.0, 0.3, 1.35])
-#: Finger posture [rad] at the middle of an edge-crossing sweep (strongly flexed, hook-like).
-SWEEP_POSTURE: Array = np.array([0.0, 0.35, 1.75])
 #: Clearance [m] the hand keeps from other geoms when a pose is checked.
 CLEARANCE: float = 0.003
 
@@ -79,17 +73,29 @@ class PalmPlanner:
         self.model = scene.model
         self.hand = scene.hand
         self.kin = HandKinematics(scene.model, scene.hand)
-        self._radial: dict[tuple[int, bytes], tuple[Array, Array]] = {}
+        self._radial: dict[tuple[object, ...], tuple[Array, Array]] = {}
 
     def radial(self, finger: int, q: Array) -> tuple[Array, Array]:
         """Tip centre (3,) [m] and radial direction (3,) of a finger posture, palm frame."""
         key = (finger, np.asarray(q, float).tobytes())
         if key not in self._radial:
-            pts = self.kin.points(finger, q, np.zeros(3), np.eye(3))
-            u = pts[3] - pts[0]
-            self._radial[key] = (pts[3].copy(), u / np.linalg.norm(u))
+            base, tip = self.kin.base_and_tip(finger, q, np.zeros(3), np.eye(3))
+            u = tip - base
+            self._radial[key] = (tip, u / np.linalg.norm(u))
         tip, u = self._radial[key]
         return tip.copy(), u.copy()
+
+    def flexion_axis(self, finger: int, q: Array) -> Array:
+        """(3,) float, unit axis of a finger's last driven joint at posture `q`, palm frame:
+        the axis the finger flexes about."""
+        key = (finger, np.asarray(q, float).tobytes(), "axis")
+        if key not in self._radial:
+            self.kin.base_and_tip(finger, q, np.zeros(3), np.eye(3))
+            f = self.hand.fingers[finger]
+            joint = int(self.model.dof_jntid[f.dof_adr[-1]])
+            axis = self.kin.data.xaxis[joint].copy()
+            self._radial[key] = (axis / np.linalg.norm(axis), axis)
+        return self._radial[key][0].copy()
 
     def collision_count(
         self, position: Array, rotation: Array, postures: Mapping[int, Array],
@@ -105,7 +111,8 @@ class PalmPlanner:
         d.qpos[h.palm_qpos_adr : h.palm_qpos_adr + 3] = position
         d.qpos[h.palm_qpos_adr + 3 : h.palm_qpos_adr + 7] = quat
         for f in h.fingers:
-            d.qpos[f.qpos_adr] = postures.get(f.index, TUCKED_POSTURE)
+            q = postures.get(f.index)
+            h.set_finger_qpos(d.qpos, f.index, f.posture("tucked") if q is None else q)
         mujoco.mj_fwdPosition(self.model, d)
         count = 0
         for i in range(int(d.ncon)):
@@ -119,8 +126,8 @@ class PalmPlanner:
         finger: int,
         tip_world: Array,
         direction_world: Array,
-        posture: Array = PROBE_POSTURE,
-        y_axis_world: Array | None = None,
+        posture: Array | None = None,
+        flexion_axis_world: Array | None = None,
         rolls: int = 24,
     ) -> list[PalmPose]:
         """Candidate palm poses, best first, that put a finger's tip (at `posture`) on `tip_world`
@@ -130,30 +137,34 @@ class PalmPlanner:
             finger: finger index.
             tip_world: (3,) float, where the tip centre should be at `posture` [m].
             direction_world: (3,) float, desired radial direction (e.g. the approach).
-            posture: (3,) joint angles [rad] of the finger.
-            y_axis_world: if given, the palm's y axis is kept (anti)parallel to it (sweeps);
-                otherwise the roll about the direction is free.
+            posture: (n,) joint angles [rad] of the finger (default: its ``probe`` posture).
+            flexion_axis_world: if given, the finger's flexion axis (:meth:`flexion_axis`) is
+                kept (anti)parallel to it, so that the finger flexes in the plane normal to it
+                (sweeps across an edge, strokes); otherwise the roll about the direction is free.
             rolls: number of roll angles tried when the roll is free.
 
         Returns:
             Collision-free candidates first, each group sorted by palm height above the table.
         """
+        if posture is None:
+            posture = self.hand.posture(finger, "probe")
         d = np.asarray(direction_world, float)
         d = d / np.linalg.norm(d)
         tip_palm, u = self.radial(finger, posture)
         base = rotation_between(u, d)
         rotations = []
-        if y_axis_world is None:
+        if flexion_axis_world is None:
             # one batched Rodrigues call for all rolls (a call costs ~50 us whatever its size)
             angles = np.linspace(0.0, 2 * np.pi, rolls, endpoint=False)
             rotations.extend(rotvec_to_matrix(angles[:, None] * d[None, :]) @ base)
         else:
-            y = np.asarray(y_axis_world, float)
+            y = np.asarray(flexion_axis_world, float)
             y = y - (y @ d) * d
             y /= np.linalg.norm(y)
+            axis = base @ self.flexion_axis(finger, posture)
             for sign in (1.0, -1.0):
-                # roll about d until the palm's y axis is along sign * y
-                y_now = base[:, 1] - (base[:, 1] @ d) * d
+                # roll about d until the flexion axis is along sign * y
+                y_now = axis - (axis @ d) * d
                 y_now /= np.linalg.norm(y_now)
                 ang = np.arctan2(np.cross(y_now, sign * y) @ d, y_now @ (sign * y))
                 rotations.append(rotvec_to_matrix(d * ang) @ base)
@@ -192,11 +203,4 @@ class PalmPlanner:
         return bool(ok.all()), ok
 
 
-__all__ = [
-    "CLEARANCE",
-    "PROBE_POSTURE",
-    "PalmPlanner",
-    "PalmPose",
-    "SWEEP_POSTURE",
-    "rotation_between",
-]
+__all__ = ["CLEARANCE", "PalmPlanner", "PalmPose", "rotation_between"]

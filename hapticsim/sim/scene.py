@@ -25,7 +25,8 @@ from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
-from hapticsim.sim.hand import Hand
+from hapticsim.sim.hand import Hand, attach_hand, compile_scene
+from hapticsim.sim.hand_description import HandDescription, load_hand
 from hapticsim.sim.models import model_path
 from hapticsim.sim.object_mesh import (
     CollisionParts,
@@ -66,14 +67,19 @@ class SceneConfig:
         friction: sliding friction coefficient of the object, in [0, 1].
         timestep: physics time step [s], in (0, 0.005].
         workspace: where the palm may go.
+        hand: the hand, a shipped name (``"hapticsim"``, ``"shadow"``, ``"adroit"``), the path
+            of a TOML description or a :class:`~hapticsim.sim.hand_description.HandDescription`
+            (stored as the loaded description).
     """
 
     mesh_resolution: int = DEFAULT_MESH_RESOLUTION
     friction: float = DEFAULT_FRICTION
     timestep: float = DEFAULT_TIMESTEP
     workspace: Workspace = field(default_factory=Workspace)
+    hand: HandDescription | str = "hapticsim"
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "hand", load_hand(self.hand))
         positive_int(self.mesh_resolution, "mesh_resolution", minimum=16)
         finite_float(self.friction, "friction", 0.0, 1.0)
         if not 0.0 < finite_float(self.timestep, "timestep") <= 0.005:
@@ -176,8 +182,13 @@ def _compile(
     config = SceneConfig() if config is None else config
     config.workspace.check_object(truth)
 
-    spec = mujoco.MjSpec.from_file(str(model_path("hand.xml")))
+    spec = mujoco.MjSpec()
+    spec.compiler.degree = False
+    spec.modelname = f"hapticsim_{config.hand.name}"
     spec.option.timestep = config.timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    attach_hand(spec, config.hand, config.friction)
 
     collision = collision_parts(truth, config.mesh_resolution)
     layout = _layout(truth, collision)
@@ -216,7 +227,7 @@ def _compile(
     spec.worldbody.add_camera(
         name=CAMERA_NAME, pos=layout.eye.tolist(), xyaxes=layout.xyaxes.tolist(), fovy=45.0
     )
-    return _scene(spec.compile(), truth, layout, config, collision), collision
+    return _scene(compile_scene(spec), truth, layout, config, collision), collision
 
 
 def _part_name(k: int) -> str:
@@ -239,7 +250,7 @@ def _scene(
     return Scene(
         model=model,
         truth=truth,
-        hand=Hand(model),
+        hand=Hand(model, config.hand),
         object_geom_id=ident(mujoco.mjtObj.mjOBJ_GEOM, OBJECT_NAME),
         object_body_id=ident(mujoco.mjtObj.mjOBJ_BODY, OBJECT_NAME),
         stand_geom_id=ident(mujoco.mjtObj.mjOBJ_GEOM, STAND_NAME),
@@ -282,7 +293,7 @@ def _shape_key(truth: Superquadric | MeshSolid) -> bytes:
 def _config_key(config: SceneConfig) -> tuple[object, ...]:
     w = config.workspace
     return (config.mesh_resolution, config.friction, config.timestep, w.base_world.tobytes(),
-            w.reach, w.max_object_radius, w.clearance)  # fmt: skip
+            w.reach, w.max_object_radius, w.clearance, config.hand.key)  # fmt: skip
 
 
 class SceneCache:

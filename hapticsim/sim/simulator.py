@@ -42,10 +42,6 @@ _BAD_STATE = tuple(
         mujoco.mjtWarning.mjWARN_BADQPOS,
     )
 )
-#: Joint posture [rad] (abduction, proximal, distal flexion) of a finger out of the way.
-TUCKED_POSTURE: Array = np.array([0.0, 1.5, 1.9])
-#: Joint posture [rad] of a finger ready to probe (distal link about 55 deg from the palm).
-READY_POSTURE: Array = np.array([0.0, 0.35, 0.6])
 
 
 @dataclass(frozen=True)
@@ -111,7 +107,7 @@ class Simulator:
         self.steps = 0
         n = len(self.hand.fingers)
         self._tip_target: list[Array | None] = [None] * n
-        self._posture: list[Array] = [TUCKED_POSTURE.copy() for _ in range(n)]
+        self._posture: list[Array] = [f.posture("tucked") for f in self.hand.fingers]
         self._palm_goal_pos = np.zeros(3)
         self._palm_goal_quat = np.array([1.0, 0.0, 0.0, 0.0])
         self._palm_reached = True
@@ -140,37 +136,23 @@ class Simulator:
         """Simulation time [s]."""
         return float(self.data.time)
 
-    def reset(self, palm_world: Array, palm_rot_world: Array, posture: Array | None = None) -> None:
-        """Reset the physics with the palm (and its mocap) at a pose and every finger at a posture.
+    def reset(
+        self,
+        palm_world: Array,
+        palm_rot_world: Array,
+        postures: Mapping[int, Array] | None = None,
+    ) -> None:
+        """Reset the physics with the palm (and its mocap) at a pose and the fingers at postures.
 
         Args:
             palm_world: (3,) float, palm position [m].
             palm_rot_world: (3, 3) float, palm rotation (columns: palm axes in the world).
-            posture: (3,) joint angles [rad] of every finger (default: tucked).
+            postures: joint postures [rad] by finger index (other fingers: tucked).
         """
-        pos = finite_array(palm_world, "palm_world", (3,))
-        rot = finite_array(palm_rot_world, "palm_rot_world", (3, 3))
-        self.scene.config.workspace.check_palm(pos)
-        m, d, hand = self.model, self.data, self.hand
-        mujoco.mj_resetData(m, d)
-        quat = _quat(rot)
-        d.qpos[hand.palm_qpos_adr : hand.palm_qpos_adr + 3] = pos
-        d.qpos[hand.palm_qpos_adr + 3 : hand.palm_qpos_adr + 7] = quat
-        d.mocap_pos[hand.mocap_id] = pos
-        d.mocap_quat[hand.mocap_id] = quat
-        q0 = TUCKED_POSTURE if posture is None else np.asarray(posture, dtype=np.float64)
-        for f in hand.fingers:
-            q = np.clip(q0, f.ctrl_range[:, 0], f.ctrl_range[:, 1])
-            d.qpos[f.qpos_adr] = q
-            d.ctrl[f.actuator_ids] = q
-            self._posture[f.index] = q.copy()
-            self._tip_target[f.index] = None
-        self._palm_goal_pos = pos.copy()
-        self._palm_goal_quat = quat.copy()
-        self._palm_reached = True
+        mujoco.mj_resetData(self.model, self.data)
         self.steps = 0
-        mujoco.mj_forward(m, d)
-        self._contacts = read_contacts(m, d, hand, self.scene.object_geom_ids)
+        self.place(palm_world, palm_rot_world, postures)
+        self._contacts = read_contacts(self.model, self.data, self.hand, self.scene.object_geom_ids)
         self._contacts_stale = False
 
     def place(
@@ -207,9 +189,10 @@ class Simulator:
         d.qvel[:] = 0.0
         d.qacc_warmstart[:] = 0.0
         for f in hand.fingers:
-            q = np.asarray(postures.get(f.index, TUCKED_POSTURE), dtype=np.float64)
+            q = postures.get(f.index)
+            q = f.posture("tucked") if q is None else np.asarray(q, dtype=np.float64)
             q = np.minimum(np.maximum(q, f.ctrl_low), f.ctrl_high)
-            d.qpos[f.qpos_adr] = q
+            hand.set_finger_qpos(d.qpos, f.index, q)
             d.ctrl[f.actuator_ids] = q
             self._posture[f.index] = q.copy()
             self._tip_target[f.index] = None
@@ -401,4 +384,4 @@ class Simulator:
         return self.contacts
 
 
-__all__ = ["READY_POSTURE", "ServoConfig", "Simulator", "TUCKED_POSTURE"]
+__all__ = ["SavedState", "ServoConfig", "Simulator"]

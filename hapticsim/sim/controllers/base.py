@@ -18,18 +18,22 @@ class FingerTask(ABC):
     nothing left to do it sets :attr:`done`.
 
     Args:
-        finger: finger index or name.
+        finger: finger index.
         recorder: where contacts go.
         pattern: pattern id in the recorder.
     """
 
-    def __init__(self, finger: int | str, recorder: Recorder, pattern: int) -> None:
+    def __init__(self, finger: int, recorder: Recorder, pattern: int) -> None:
         self.finger = finger_index(finger)
         self.recorder = recorder
         self.pattern = pattern
         self.done = False
         self.recorded = 0
         self.message = ""
+
+    def tip_radius(self, sim: Simulator) -> float:
+        """Radius [m] of this task's fingertip on the simulated hand."""
+        return sim.hand.fingers[self.finger].tip_radius
 
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
         """Keep a contact; stops the task when the recorder is full."""

@@ -34,7 +34,6 @@ from hapticsim.sim._vec import cross, dot, norm
 from hapticsim.sim.contacts import ContactState
 from hapticsim.sim.controllers.base import FingerTask
 from hapticsim.sim.controllers.probe import Probe, ProbeConfig
-from hapticsim.sim.hand import TIP_RADIUS
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.simulator import Simulator
 
@@ -85,7 +84,7 @@ class FollowTask(FingerTask):
     """Follow the contour in a plane from a first probe, recording a stripe of contacts.
 
     Args:
-        finger: finger index or name.
+        finger: finger index.
         start: the first probe (aim and approach direction).
         plane_normal_world: (3,) float, normal ``m`` of the stripe's plane (through the aim).
         direction_world: (3,) float, initial travel direction (projected on the tangent plane).
@@ -98,7 +97,7 @@ class FollowTask(FingerTask):
 
     def __init__(
         self,
-        finger: int | str,
+        finger: int,
         start: Probe,
         plane_normal_world: Array,
         direction_world: Array,
@@ -149,7 +148,7 @@ class FollowTask(FingerTask):
         now = sim.time
         if self._state == "idle":
             self._state, self._t0 = "move", now
-            self._target = self.start.start(pc.standoff)
+            self._target = self.start.start(pc.standoff, self.tip_radius(sim))
             sim.set_tip_target(f, self._target)
             return
         if self._state == "move":
@@ -163,7 +162,8 @@ class FollowTask(FingerTask):
             if contact is not None and contact.force > 0:
                 self._state, self._t0, self._depth = "press", now, 0.0
             else:
-                travelled = float((tip - self.start.start(pc.standoff)) @ self.start.approach_world)
+                entry = self.start.start(pc.standoff, self.tip_radius(sim))
+                travelled = float((tip - entry) @ self.start.approach_world)
                 if travelled > pc.standoff + pc.max_travel or now - self._t0 > pc.approach_time:
                     self.finish(sim, "first probe met nothing")
                     return
@@ -234,7 +234,7 @@ class FollowTask(FingerTask):
             c, s = np.cos(self._pivot_angle), np.sin(self._pivot_angle)
             n, t = c * n0 + s * t0, c * t0 - s * n0
             self._normal, self._t = n, t
-            target = pivot + n * (TIP_RADIUS - self._depth) + t * 0.0005
+            target = pivot + n * (self.tip_radius(sim) - self._depth) + t * 0.0005
         sim.set_tip_target(f, target)
         t_ref, p_ref = self._stall_ref
         if norm(tip - p_ref) > 0.001:

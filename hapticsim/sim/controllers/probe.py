@@ -22,7 +22,6 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.sim._vec import norm
 from hapticsim.sim.contacts import ContactState
 from hapticsim.sim.controllers.base import FingerTask
-from hapticsim.sim.hand import TIP_RADIUS
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.simulator import Simulator
 
@@ -49,9 +48,10 @@ class Probe:
             raise InvalidInputError("`approach_world` must be a non-zero vector")
         object.__setattr__(self, "approach_world", d / norm)
 
-    def start(self, standoff: float) -> Array:
-        """(3,) float, tip-centre start point [m]: ``standoff`` before touching the aim."""
-        return self.aim_world - self.approach_world * (TIP_RADIUS + standoff)
+    def start(self, standoff: float, tip_radius: float) -> Array:
+        """(3,) float, tip-centre start point [m]: ``standoff`` [m] before a fingertip of
+        radius `tip_radius` [m] touches the aim."""
+        return self.aim_world - self.approach_world * (tip_radius + standoff)
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,7 @@ class ProbeTask(FingerTask):
     """Probe a list of points with one fingertip, recording one contact per successful probe.
 
     Args:
-        finger: finger index or name.
+        finger: finger index.
         probes: the probes, in order.
         recorder: where contacts go.
         pattern: pattern id in the recorder.
@@ -104,7 +104,7 @@ class ProbeTask(FingerTask):
 
     def __init__(
         self,
-        finger: int | str,
+        finger: int,
         probes: Sequence[Probe],
         recorder: Recorder,
         pattern: int,
@@ -137,7 +137,7 @@ class ProbeTask(FingerTask):
             return
         self._state = "move"
         self._t0 = sim.time
-        self._target = self.probes[self.index].start(self.config.standoff)
+        self._target = self.probes[self.index].start(self.config.standoff, self.tip_radius(sim))
         sim.set_tip_target(self.finger, self._target)
 
     def _retract(self, sim: Simulator, normal: Array) -> None:
@@ -177,7 +177,7 @@ class ProbeTask(FingerTask):
                 self._state, self._t0, self._depth = "press", sim.time, 0.0
                 self._normal = contact.normal_world
             else:
-                start = probe.start(cfg.standoff)
+                start = probe.start(cfg.standoff, self.tip_radius(sim))
                 travelled = float((tip - start) @ probe.approach_world)
                 # beyond the travel, or stuck (reach, joint limits) well past the expected time
                 if travelled > cfg.standoff + cfg.max_travel or elapsed > cfg.approach_time:

@@ -21,7 +21,7 @@ import numpy as np
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.strategies.geometry import corner_probes, patch_probes
 from hapticsim.sim.strategies.registry import register
-from hapticsim.sim.strategies.sweep import SWEEP_FINGERS, plan_sweep, run_sweep_plan
+from hapticsim.sim.strategies.sweep import plan_sweep, run_sweep_plan
 
 #: Edges (face A, face B) of a box swept by the ``paper`` strategy: top-front, bottom-back and
 #: back-right; together with the top-front-left corner patch they touch all six faces.
@@ -51,7 +51,6 @@ ROUND_PATCHES: tuple[tuple[float, float], ...] = (
 PATCH_HALF_WIDTH: float = np.radians(22.0)
 #: Thumb probes per sweep.
 THUMB_PROBES: int = 8
-INDEX, THUMB = 1, 0
 
 
 def _fill(explorer: Explorer, count: int, rng: np.random.Generator, rounds: int = 6) -> None:
@@ -66,13 +65,17 @@ def _fill(explorer: Explorer, count: int, rng: np.random.Generator, rounds: int 
             explorer.rough, (eta0 - PATCH_HALF_WIDTH, eta0 + PATCH_HALF_WIDTH),
             (omega0 - PATCH_HALF_WIDTH, omega0 + PATCH_HALF_WIDTH), missing + 2, rng,
         )  # fmt: skip
-        explorer.probe_patch(INDEX if k % 2 == 0 else THUMB, probes)
+        hand = explorer.scene.hand
+        explorer.probe_patch(hand.index if k % 2 == 0 else hand.thumb, probes)
 
 
 def _patches(
     explorer: Explorer, count: int, rng: np.random.Generator,
-    centres: tuple[tuple[float, float], ...], fingers: tuple[int, ...] = (INDEX, THUMB),
+    centres: tuple[tuple[float, float], ...], fingers: tuple[int, ...] | None = None,
 ) -> None:  # fmt: skip
+    """Patches at `centres`, probed in turn by `fingers` (default: index and thumb)."""
+    if fingers is None:
+        fingers = (explorer.scene.hand.index, explorer.scene.hand.thumb)
     per = int(np.ceil(count / len(centres)))
     for k, (eta0, omega0) in enumerate(centres):
         if explorer.recorder.full or explorer.out_of_time:
@@ -90,10 +93,11 @@ def _sweeps(
     count: int,
     rng: np.random.Generator,
     edges: tuple[tuple[tuple[int, float], tuple[int, float]], ...],
-    fingers: tuple[int, ...],
+    fingers: tuple[int, ...] | None,
     thumb_probes: int,
 ) -> None:
-    """Plan all sweeps, choose the stripe spacing that fills the budget, run them."""
+    """Plan all sweeps, choose the stripe spacing that fills the budget, run them (`fingers`
+    None: the hand's sweeping fingers)."""
     plans = [(e, plan_sweep(explorer, e[0], e[1], fingers)) for e in edges]
     plans = [(e, p) for e, p in plans if p is not None]
     if not plans:
@@ -123,15 +127,16 @@ def patch_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> 
 
 @register("stripe")
 def stripe_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> None:
-    """Single-finger contour following across edges (middle finger)."""
-    _sweeps(explorer, count, rng, PAPER_EDGES + MORE_EDGES, fingers=(2,), thumb_probes=0)
+    """Single-finger contour following across edges (the hand's middle sweeping finger)."""
+    middle = (explorer.scene.hand.middle,)
+    _sweeps(explorer, count, rng, PAPER_EDGES + MORE_EDGES, fingers=middle, thumb_probes=0)
     _fill(explorer, count, rng)
 
 
 @register("sweep")
 def sweep_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> None:
     """Three fingers sweep across edges while the thumb probes a corner."""
-    _sweeps(explorer, count, rng, PAPER_EDGES + MORE_EDGES[:1], SWEEP_FINGERS, THUMB_PROBES)
+    _sweeps(explorer, count, rng, PAPER_EDGES + MORE_EDGES[:1], None, THUMB_PROBES)
     _fill(explorer, count, rng)
 
 
@@ -141,8 +146,9 @@ def paper_strategy(explorer: Explorer, count: int, rng: np.random.Generator) -> 
     with edges, patches on round ones (module docstring)."""
     if explorer.rough.has_edges:
         n_corner = max(count // 7, 6)
-        explorer.probe_patch(INDEX, corner_probes(explorer.rough, PAPER_CORNER, n_corner, rng))
-        _sweeps(explorer, count, rng, PAPER_EDGES, SWEEP_FINGERS, THUMB_PROBES)
+        index = explorer.scene.hand.index
+        explorer.probe_patch(index, corner_probes(explorer.rough, PAPER_CORNER, n_corner, rng))
+        _sweeps(explorer, count, rng, PAPER_EDGES, None, THUMB_PROBES)
     else:
         _patches(explorer, count, rng, ROUND_PATCHES)
     _fill(explorer, count, rng)

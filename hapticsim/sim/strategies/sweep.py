@@ -12,16 +12,11 @@ from numpy.typing import NDArray
 
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer, StripeSpec
-from hapticsim.sim.hand import TIP_RADIUS
-from hapticsim.sim.planning import PROBE_POSTURE, SWEEP_POSTURE, PalmPose
+from hapticsim.sim.planning import PalmPose
 from hapticsim.sim.strategies.geometry import EdgeContour, corner_probes, edge_contour
 
 Array = NDArray[np.float64]
 
-#: Finger indices that sweep (index, middle, ring) and the reference finger of the palm pose.
-SWEEP_FINGERS: tuple[int, ...] = (1, 2, 3)
-MIDDLE: int = 2
-THUMB: int = 0
 #: Largest stripe extent on either side of the edge [m].
 MAX_HALF_STRIPE: float = 0.03
 #: Shortest useful extent on either side of the edge [m].
@@ -71,18 +66,29 @@ def plan_sweep(
     explorer: Explorer,
     face_a: tuple[int, float],
     face_b: tuple[int, float],
-    fingers: Sequence[int] = SWEEP_FINGERS,
+    fingers: Sequence[int] | None = None,
     max_half: float = MAX_HALF_STRIPE,
 ) -> SweepPlan | None:
     """Plan a sweep across the edge between two faces of the rough object (see
     :func:`~hapticsim.sim.strategies.geometry.edge_contour` for the face convention).
 
-    The palm pose puts the middle finger, in a hook posture, on the edge with its radial
-    direction along the inward edge bisector and the palm's y axis along the edge; each finger's
-    stripe is trimmed to the part of its contour it can reach (inverse kinematics on the planning
-    scene). Returns None when no finger can do a useful stripe.
+    The palm pose puts the hand's middle sweeping finger (:attr:`Hand.middle`), in its
+    ``sweep`` (hook) posture, on the edge with its radial direction along the inward edge
+    bisector and its flexion axis along the edge; each finger's stripe is trimmed to the part of
+    its contour it can reach (inverse kinematics on the planning scene). Returns None when no
+    finger can do a useful stripe.
+
+    Args:
+        explorer: the explorer.
+        face_a, face_b: the faces, (body axis, sign).
+        fingers: the sweeping fingers (default: the hand's :attr:`Hand.sweep_fingers`).
+        max_half: longest stripe on either side of the edge [m].
     """
     planner, rough = explorer.planner, explorer.rough
+    hand = explorer.scene.hand
+    fingers = hand.sweep_fingers if fingers is None else tuple(fingers)
+    middle = hand.middle if hand.middle in fingers else fingers[len(fingers) // 2]
+    sweep_q = {f: hand.posture(f, "sweep") for f in {*fingers, middle}}
     contour = edge_contour(rough, face_a, face_b)
     edge_point = contour.points_world[contour.edge_index]
     bisector = contour.normals_world[contour.edge_index]
@@ -93,13 +99,15 @@ def plan_sweep(
     s_hi = min(s_edge + max_half, contour.face_b_end - 0.15 * (contour.face_b_end - s_edge))
     arcs = np.linspace(s_lo, s_hi, 13)
     best: SweepPlan | None = None
-    tip_edge = edge_point + bisector * TIP_RADIUS
-    for pose in planner.probe_poses(MIDDLE, tip_edge, -bisector, SWEEP_POSTURE, y_axis_world=u):
+    tip_edge = edge_point + bisector * hand.fingers[middle].tip_radius
+    standoff = explorer.config.probe.standoff
+    poses = planner.probe_poses(middle, tip_edge, -bisector, sweep_q[middle], flexion_axis_world=u)
+    for pose in poses:
         if pose.score < -50:
             continue
-        bases = {f: planner.kin.points(f, SWEEP_POSTURE, pose.position, pose.rotation)[0]
-                 for f in fingers}  # fmt: skip
-        mid_base = planner.kin.points(MIDDLE, SWEEP_POSTURE, pose.position, pose.rotation)[0]
+        bases = {f: planner.kin.base_and_tip(f, sweep_q[f], pose.position, pose.rotation)[0]
+                 for f in {*fingers, middle}}  # fmt: skip
+        mid_base = bases[middle]
         stripes, postures = [], {}
         for f in fingers:
             offset = float((bases[f] - mid_base) @ u)
@@ -109,8 +117,9 @@ def plan_sweep(
             own = contour if abs(offset) < 1e-4 else edge_contour(rough, face_a, face_b, offset)
             s_edge_f = own.edge_arc
             arcs_f = arcs - s_edge + s_edge_f
-            tips = [own.at(s)[0] + own.at(s)[1] * TIP_RADIUS for s in arcs_f]
-            _, ok = planner.reachable(f, pose, tips, SWEEP_POSTURE)
+            radius = hand.fingers[f].tip_radius
+            tips = [own.at(s)[0] + own.at(s)[1] * radius for s in arcs_f]
+            _, ok = planner.reachable(f, pose, tips, sweep_q[f])
             k_edge = int(np.argmin(np.abs(arcs_f - s_edge_f)))
             if not ok[k_edge]:
                 continue
@@ -125,12 +134,14 @@ def plan_sweep(
             p0, n0 = own.at(arcs_f[lo])
             p1, _ = own.at(arcs_f[lo] + 0.002)
             start = Probe(p0, -n0)
-            q, err = planner.kin.ik(f, start.start(explorer.config.probe.standoff),
-                                    pose.position, pose.rotation, SWEEP_POSTURE)  # fmt: skip
+            q, err = planner.kin.ik(f, start.start(standoff, radius), pose.position,
+                                    pose.rotation, sweep_q[f])  # fmt: skip
             if err > 0.002:
                 continue
             postures[f] = q
             stripes.append(StripeSpec(f, start, u, p1 - p0, float(arcs[hi] - arcs[lo])))
+        if stripes and planner.collision_count(pose.position, pose.rotation, postures):
+            continue  # some link would touch the rough object at the stripes' starts
         if stripes and (best is None or sum(s.length for s in stripes) > best.total_length):
             best = SweepPlan(pose, -bisector, tuple(stripes), postures, contour)
     return best
@@ -149,21 +160,24 @@ def thumb_corner_probes(
         The reachable probes (at most `count`) and the thumb posture to move in with.
     """
     planner = explorer.planner
+    hand = explorer.scene.hand
+    thumb = hand.thumb
+    probe_q, radius = hand.posture(thumb, "probe"), hand.fingers[thumb].tip_radius
     standoff = explorer.config.probe.standoff
     best: tuple[list[Probe], Array | None] = ([], None)
     for signs in corner_signs:
         candidates = corner_probes(explorer.rough, signs, 3 * count, rng)
         kept = []
         for p in candidates:
-            pts = [p.start(standoff), p.aim_world + p.approach_world * 0.004]
-            ok, _ = planner.reachable(THUMB, plan.pose, pts, PROBE_POSTURE)
+            pts = [p.start(standoff, radius), p.aim_world + p.approach_world * 0.004]
+            ok, _ = planner.reachable(thumb, plan.pose, pts, probe_q)
             if ok:
                 kept.append(p)
             if len(kept) >= count:
                 break
         if len(kept) > len(best[0]):
-            q, _ = planner.kin.ik(THUMB, kept[0].start(standoff), plan.pose.position,
-                                  plan.pose.rotation, PROBE_POSTURE)  # fmt: skip
+            q, _ = planner.kin.ik(thumb, kept[0].start(standoff, radius), plan.pose.position,
+                                  plan.pose.rotation, probe_q)  # fmt: skip
             best = (kept, q)
     return best
 
@@ -192,9 +206,10 @@ def run_sweep_plan(
             signs[face_a[0]], signs[face_b[0]], signs[k] = face_a[1], face_b[1], sk
             corners.append((signs[0], signs[1], signs[2]))
         probes, q = thumb_corner_probes(explorer, plan, corners, thumb_probes, rng)
-        if len(probes) >= 3 and q is not None:
-            extra.append((THUMB, probes))
-            postures[THUMB] = q
+        thumb = explorer.scene.hand.thumb
+        if len(probes) >= 3 and q is not None and thumb not in postures:
+            extra.append((thumb, probes))
+            postures[thumb] = q
     return explorer.sweep(plan.pose, plan.approach_world, plan.stripes, postures, extra)
 
 
@@ -202,7 +217,7 @@ def run_sweep(
     explorer: Explorer,
     face_a: tuple[int, float],
     face_b: tuple[int, float],
-    fingers: Sequence[int] = SWEEP_FINGERS,
+    fingers: Sequence[int] | None = None,
     thumb_probes: int = 0,
     rng: np.random.Generator | None = None,
 ) -> int:
