@@ -230,9 +230,7 @@ class MujocoBackend(SupportedBackend):
         for pose in poses:
             if pose.score < -50:
                 continue
-            q, err = ex.planner.kin.ik(
-                touch.finger, entry, pose.position, pose.rotation, sweep_q
-            )
+            q, err = ex.planner.kin.ik(touch.finger, entry, pose.position, pose.rotation, sweep_q)
             if err > 0.002:
                 continue
             _, ok = ex.planner.reachable(touch.finger, pose, list(tips), sweep_q)

@@ -156,7 +156,7 @@ def _attach_quietly(frame: mujoco.MjsFrame, body: mujoco.MjsBody) -> mujoco.MjsB
     sizes (timestep, solver iterations, user-data sizes, ...) conflict with the scene's, which
     are kept: MuJoCo's note about the conflict goes to the debug log, not to stderr."""
     previous = mujoco.get_mju_user_warning()
-    mujoco.set_mju_user_warning(lambda message: _LOG.debug("MuJoCo (attaching a hand): %s", message))
+    mujoco.set_mju_user_warning(lambda text: _LOG.debug("MuJoCo (attaching a hand): %s", text))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -273,13 +273,18 @@ class Hand:
             }
             fingers.append(
                 Finger(
-                    index=k, name=f.name, site_id=_id(model, mujoco.mjtObj.mjOBJ_SITE, site),
+                    index=k,
+                    name=f.name,
+                    site_id=_id(model, mujoco.mjtObj.mjOBJ_SITE, site),
                     tip_geom_id=_id(model, mujoco.mjtObj.mjOBJ_GEOM, geom),
-                    tip_radius=float(f.tip_radius), base_body_id=int(model.jnt_bodyid[joints[0]]),
+                    tip_radius=float(f.tip_radius),
+                    base_body_id=int(model.jnt_bodyid[joints[0]]),
                     qpos_adr=np.array([model.jnt_qposadr[j] for j in joints], dtype=np.int64),
                     dof_adr=np.array([model.jnt_dofadr[j] for j in joints], dtype=np.int64),
-                    actuator_ids=np.array(acts, dtype=np.int64), ctrl_range=ctrl,
-                    coupled=tuple(coupled), postures=postures,
+                    actuator_ids=np.array(acts, dtype=np.int64),
+                    ctrl_range=ctrl,
+                    coupled=tuple(coupled),
+                    postures=postures,
                 )  # fmt: skip
             )
         self.fingers: tuple[Finger, ...] = tuple(fingers)

@@ -309,7 +309,8 @@ def parse_hand(data: Mapping[str, Any], base: Path, where: str) -> HandDescripti
         raise _err(where, f"`root` must be a body name, got {root!r}")
     actuation = data.get("actuation", {})
     if not isinstance(actuation, dict) or set(actuation) - _ACTUATION_KEYS:
-        raise _err(where, f"[actuation] takes the keys {sorted(_ACTUATION_KEYS)}, got {actuation!r}")
+        keys = sorted(_ACTUATION_KEYS)
+        raise _err(where, f"[actuation] takes the keys {keys}, got {actuation!r}")
     mode = actuation.get("mode", "model")
     if mode not in ACTUATION_MODES:
         raise _err(where, f"[actuation] `mode` must be one of {ACTUATION_MODES}, got {mode!r}")
