@@ -12,18 +12,20 @@ from numpy.typing import NDArray
 from hapticsim.envs.support import Support
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.sim.render import (  # noqa: F401  (contacts are drawn as the sim draws them)
+    CONTACT_RADIUS,
+    CONTACT_RGBA,
+    add_markers,
+)
 
 Array = NDArray[np.float64]
 
-#: Colours (RGBA) of the truth, the estimate, the contacts and the table.
+#: Colours (RGBA) of the truth, the estimate and the table (contacts: ``CONTACT_RGBA``).
 TRUTH_RGBA = (0.72, 0.72, 0.72, 1.0)
 ESTIMATE_RGBA = (0.2, 0.45, 0.95, 0.35)
-CONTACT_RGBA = (0.95, 0.15, 0.1, 1.0)
 TABLE_RGBA = (0.55, 0.45, 0.35, 1.0)
 #: Height of the drawn stand [m] (the MuJoCo scene's is 0.15 m).
 STAND_HEIGHT = 0.06
-#: Radius of a contact marker [m].
-CONTACT_RADIUS = 0.0025
 
 
 def _add_mesh(spec, name: str, shape: Superquadric | MeshSolid, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
@@ -38,22 +40,6 @@ def _add_mesh(spec, name: str, shape: Superquadric | MeshSolid, rgba: tuple[floa
     spec.worldbody.add_geom(
         type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, rgba=list(rgba), contype=0, conaffinity=0
     )
-
-
-def add_markers(scene, points: Array, rgba: tuple[float, ...] = CONTACT_RGBA) -> None:  # noqa: ANN001
-    """Append sphere markers at (n, 3) world `points` [m] to an ``mujoco.MjvScene``."""
-    import mujoco
-
-    size = np.array([CONTACT_RADIUS, 0.0, 0.0])
-    mat = np.eye(3).ravel()
-    color = np.asarray(rgba, dtype=np.float32)
-    for p in np.asarray(points, dtype=np.float64).reshape(-1, 3):
-        if scene.ngeom >= scene.maxgeom:
-            break
-        mujoco.mjv_initGeom(
-            scene.geoms[scene.ngeom], mujoco.mjtGeom.mjGEOM_SPHERE, size, p, mat, color
-        )
-        scene.ngeom += 1
 
 
 class SceneRenderer:
