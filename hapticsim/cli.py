@@ -153,6 +153,8 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         count=args.count,
         scale=args.scale,
         pose=args.pose,
+        hand=args.hand,
+        video=args.video,
     )
     if not summary["complete"]:
         sys.stderr.write(
@@ -328,6 +330,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--count", type=int, default=150, help="contacts to gather (default 150)")
     p.add_argument("--render", action="store_true", help="also render the scene (MUJOCO_GL=egl)")
+    p.add_argument(
+        "--hand", default="hapticsim",
+        help="hapticsim (default), shadow, adroit (pip install 'hapticsim[hands]') or a TOML "
+        "hand description (docs/hands.md)",
+    )  # fmt: skip
+    p.add_argument(
+        "--video", nargs="?", const="mp4", choices=("mp4", "gif"), default=None,
+        help="also write exploration.mp4 (default; pip install 'hapticsim[video]') or .gif",
+    )  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_explore)
 

@@ -89,6 +89,10 @@ class HapticExploreConfig:
         support: what holds the object up in the analytic backend: ``"stand"`` (a thin post
             under it, as in the MuJoCo scene, which always has one), ``"table"`` or ``"none"``;
             contacts where a fingertip would hit it are unreachable.
+        hand: the MuJoCo backend's hand: ``"hapticsim"`` (default, four fingers), ``"shadow"``
+            or ``"adroit"`` (five fingers; the optional extra ``hands``), or the path of a TOML
+            hand description (``docs/hands.md``); the finger count sets what action component 4
+            selects. The analytic backend has no hand and ignores it.
         compute_metrics: score the estimate against the truth every step (info); forced on for
             ``reward="epsilon"`` and ``target_epsilon``.
         metric_samples: Monte Carlo samples inside each solid for alpha, beta, epsilon and IoU
@@ -113,6 +117,7 @@ class HapticExploreConfig:
     target_epsilon: float | None = None
     fit: FitSchedule = field(default_factory=FitSchedule)
     support: str = "stand"
+    hand: str | os.PathLike[str] = "hapticsim"
     compute_metrics: bool = True
     metric_samples: int = 10_000
     chamfer_samples: int = 200
@@ -127,6 +132,10 @@ class HapticExploreConfig:
         if self.reward not in REWARDS:
             raise InvalidInputError(f"`reward` must be one of {REWARDS}, got {self.reward!r}")
         object.__setattr__(self, "objects", ObjectDistribution.coerce(self.objects))
+        if not isinstance(self.hand, (str, os.PathLike)) and not hasattr(self.hand, "fingers"):
+            raise InvalidInputError(
+                f"`hand` must be a hand name or a TOML description path, got {self.hand!r}"
+            )
         if not isinstance(self.fit, FitSchedule):
             raise InvalidInputError(f"`fit` must be a FitSchedule, got {type(self.fit).__name__}")
         for name in ("touch_budget", "max_contacts", "width", "height"):
@@ -190,7 +199,7 @@ def make_backend(config: HapticExploreConfig) -> TouchBackend:
         )
     from hapticsim.envs.mujoco_backend import MujocoBackend
 
-    return MujocoBackend(noise=config.noise, stroke_spacing=config.stroke_spacing)
+    return MujocoBackend(noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand)
 
 
 def encode_fit(estimate: Superquadric | None, origin: Array, scale: float) -> NDArray[np.float32]:

@@ -277,6 +277,8 @@ class MujocoBackend(SupportedBackend):
             self._renderer = mujoco.Renderer(sim.model, height, width)
             self._render_model = sim.model
         self._renderer.update_scene(sim.data, camera="overview")
+        # no shadow maps: on a CPU renderer they are 90 % of a picture (0.45 s against 0.05 s)
+        self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False
         add_markers(self._renderer.scene, points)
         if estimate is not None:
             eta = np.linspace(-np.pi / 2, np.pi / 2, 15).repeat(24)

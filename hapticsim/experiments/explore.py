@@ -9,13 +9,15 @@ truth (:func:`hapticsim.metrics.score`; against the mesh for a mesh object) and 
 output directory:
 
 - ``contacts.npz``: ``points``, ``normals`` (with noise), ``points_clean``, ``normals_clean``,
-  ``finger`` (n,) int (0 thumb, 1 index, 2 middle, 3 ring), ``force`` (n,) [N], ``time`` (n,) [s],
-  ``pattern`` (n,) int (pattern id; ``pattern_kind`` gives patch/stripe per id);
+  ``finger`` (n,) int (the hand description's order, 0 the thumb: thumb, index, middle, ring for
+  hapticsim's hand), ``force`` (n,) [N], ``time`` (n,) [s], ``pattern`` (n,) int (pattern id;
+  ``pattern_kind`` gives patch/stripe per id);
 - ``truth.json`` (superquadric) or, for a mesh object, ``truth.stl`` (world frame, metres);
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
   estimate, contacts with normals) and, with ``render=True``, ``scene.png`` (MuJoCo's
-  offscreen renderer, ``MUJOCO_GL=egl``).
+  offscreen renderer, ``MUJOCO_GL=egl``); with ``video="mp4"`` or ``"gif"``,
+  ``exploration.mp4``/``.gif`` (:mod:`hapticsim.sim.video`).
 
 Everything is computed before the first file is written, and every file is written to a
 temporary name and renamed, so a failure leaves no half-written output.
@@ -53,6 +55,8 @@ def explore(
     count: int = DEFAULT_CONTACTS,
     scale: float = 1.0,
     pose: Any = None,
+    hand: str | Path = "hapticsim",
+    video: str | None = None,
 ) -> dict[str, Any]:
     """Explore an object with the simulated hand, fit, score and write the results.
 
@@ -72,6 +76,10 @@ def explore(
         pose: placement of the object, a :class:`~hapticsim.data.objects.Pose` or its text
             ``"x,y,z[,qw,qx,qy,qz]"`` (default: a superquadric where its parameters put it, a
             mesh with its centroid at the origin).
+        hand: the hand, ``"hapticsim"`` (default), ``"shadow"``, ``"adroit"`` (the optional
+            extra ``hands``) or the path of a TOML hand description (``docs/hands.md``).
+        video: also write a video of the exploration, ``"mp4"`` (the optional extra ``video``)
+            or ``"gif"``; None: no video.
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
@@ -82,7 +90,8 @@ def explore(
     Raises:
         InvalidInputError: unknown object, strategy or method (the message lists the choices),
             a mesh that is empty, not watertight or of an unknown format, or a bad noise level,
-            seed, scale or pose.
+            seed, scale or pose, an unknown or invalid hand (naming the element), or a video
+            format whose encoder is not installed.
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or too few contacts were gathered.
     """
@@ -104,18 +113,27 @@ def explore(
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     sigma = finite_float(noise, "noise", low=0.0)
     seed = positive_int(seed, "seed", minimum=0)
+    from hapticsim.sim.scene import SceneConfig
+    from hapticsim.sim.video import VideoConfig, check_video_support
+
+    scene_config = SceneConfig(hand=hand)
+    video_config = None if video is None else VideoConfig(format=video)
+    if video_config is not None:
+        check_video_support(video_config)
     default = Path("runs") / f"{spec.name}-{strategy}-seed{seed}"
     out = Path(out_dir) if out_dir is not None else default
     if out.exists() and not out.is_dir():
         raise InvalidInputError(f"`out_dir` {out} exists and is not a directory")
     # the object's own stream: spawn(4)[:3] are the streams of the simulation, noise and fit
     truth = spec.resolve(np.random.default_rng(np.random.SeedSequence(seed).spawn(4)[3]))
-    return _explore(truth, spec, strategy, sigma, method, seed, out, render, progress, count)
+    return _explore(truth, spec, strategy, sigma, method, seed, out, render, progress, count,
+                    scene_config=scene_config, video_config=video_config)  # fmt: skip
 
 
 def _explore(
     truth: Any, spec: Any, strategy: str, sigma: float, method: str, seed: int,
-    out: Path, render: bool, progress: bool, count: int,
+    out: Path, render: bool, progress: bool, count: int, scene_config: Any = None,
+    video_config: Any = None,
 ) -> dict[str, Any]:  # fmt: skip
     from tqdm import tqdm
 
@@ -133,6 +151,7 @@ def _explore(
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
+    from hapticsim.sim.video import ExplorationVideo
 
     start = time.perf_counter()
     object_name = spec.name
@@ -143,6 +162,7 @@ def _explore(
     bar = tqdm(total=count, desc=f"explore {object_name}", unit="contact", file=sys.stderr,
                disable=not progress, leave=False)  # fmt: skip
     picture: dict[str, bytes] = {}
+    video = None if video_config is None else ExplorationVideo(video_config)
 
     def on_progress(n: int) -> None:
         bar.update(n - bar.n)
@@ -156,8 +176,9 @@ def _explore(
 
     try:
         try:
-            run = run_exploration(truth, strategy, count, sim_rng, progress=on_progress,
-                                  on_pattern_end=on_pattern_end)  # fmt: skip
+            run = run_exploration(truth, strategy, count, sim_rng, scene_config=scene_config,
+                                  progress=on_progress, on_pattern_end=on_pattern_end,
+                                  video=video)  # fmt: skip
         except SimulationError as exc:
             raise SimulationError(
                 f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
@@ -168,6 +189,9 @@ def _explore(
             from hapticsim.sim.render import render_scene
 
             picture["scene"] = png_bytes(render_scene(run.explorer.sim))
+        if video is not None:
+            bar.set_postfix_str("encoding the video")
+            picture["video"] = video.finish()
         a = run.arrays
         points, normals = add_noise(
             a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
@@ -191,7 +215,10 @@ def _explore(
         )  # fmt: skip
     finally:
         bar.close()
+        if video is not None:
+            video.close()
 
+    hand_name = run.explorer.scene.hand.description.name
     metrics = {
         **quality.to_dict(),
         "theta": th,
@@ -204,6 +231,7 @@ def _explore(
         "object": object_name,
         "object_spec": spec.to_dict(),
         "truth": "truth.stl" if is_mesh else "truth.json",
+        "hand": hand_name,
         "seed": seed,
         "vision": run.rough.to_dict(),
         "collision": run.explorer.scene.collision_method,
@@ -234,11 +262,15 @@ def _explore(
     }
     if "scene" in picture:
         files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
+    if "video" in picture:
+        name = f"exploration.{video_config.format}"
+        files["video"] = write_bytes_atomic(out / name, picture["video"])
     return {
         "out_dir": str(out),
         "files": {k: str(v) for k, v in files.items()},
         "object": object_name,
         "strategy": strategy,
+        "hand": hand_name,
         "method": method,
         "noise": sigma,
         "seed": seed,

@@ -23,6 +23,7 @@ from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject, vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.strategies import get_strategy
+from hapticsim.sim.video import ExplorationVideo
 
 #: Contacts an exploration must gather to count as a success (a fit needs 13).
 MIN_CONTACTS: int = 20
@@ -87,6 +88,7 @@ def run_exploration(
     progress: Callable[[int], None] | None = None,
     on_pattern_end: Callable[[Explorer], None] | None = None,
     rough: RoughObject | None = None,
+    video: ExplorationVideo | None = None,
 ) -> Exploration:
     """Explore an object with the hand and return the recorded (clean) contacts.
 
@@ -101,6 +103,8 @@ def run_exploration(
         on_pattern_end: called with the explorer after every pattern.
         rough: what the controllers know about the object (default: a vision estimate,
             :func:`~hapticsim.sim.rough.vision_estimate`, drawn from `rng`).
+        video: takes frames of the run (:class:`~hapticsim.sim.video.ExplorationVideo`); the
+            caller calls its ``finish``. Frames change nothing in the simulation.
 
     Returns:
         The exploration.
@@ -121,6 +125,8 @@ def run_exploration(
         rough = vision_estimate(truth, rough_rng)
     recorder = Recorder(count)
     explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end)
+    if video is not None:
+        video.attach(explorer.sim, recorder)
     run_strategy(explorer, count, strategy_rng)
     wall = time.perf_counter() - start
     if len(recorder) < MIN_CONTACTS:

@@ -15,7 +15,7 @@ The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -113,6 +113,9 @@ class Simulator:
         self._palm_reached = True
         self._palm_speed = self.servo.palm_speed
         self._palm_angular_speed = self.servo.palm_angular_speed
+        #: called with the simulator after every control tick and every :meth:`place` (e.g.
+        #: to take a video frame); empty by default.
+        self.tick_hooks: list[Callable[[Simulator], None]] = []
         self._contacts = ContactState((None,) * n, 0, 0)
         self._contacts_stale = False
         # Views and ids used every control tick (MjData's arrays are views: no re-reading).
@@ -201,6 +204,8 @@ class Simulator:
         self._palm_reached = True
         mujoco.mj_forward(m, d)
         self._contacts_stale = True
+        for hook in self.tick_hooks:
+            hook(self)
 
     def hand_clearance(self) -> float:
         """Smallest distance [m] between the hand and anything else in the current state,
@@ -379,6 +384,8 @@ class Simulator:
         self.steps += self.servo.control_steps
         self._check_stable()
         self._contacts_stale = True
+        for hook in self.tick_hooks:
+            hook(self)
         if not read:
             return None
         return self.contacts

@@ -11,6 +11,7 @@ from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.mujoco_backend import MujocoBackend
 from hapticsim.envs.touch import Touch, encode_touch
+from hapticsim.errors import InvalidInputError
 from hapticsim.sim.rough import vision_estimate
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
@@ -103,6 +104,59 @@ def test_random_steps_with_the_hand_without_nan() -> None:
     env.reset(seed=0)
     statuses = set()
     for _ in range(100):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert all(np.all(np.isfinite(v)) for v in obs.values()) and np.isfinite(reward)
+        statuses.add(info["touch_status"])
+        if terminated or truncated:
+            env.reset()
+    assert "ok" in statuses
+    env.close()
+
+
+# ---------------------------------------------------------------------------- other hands
+def _needs_hands_extra() -> None:
+    pytest.importorskip("gymnasium_robotics", reason="the `hands` extra is not installed")
+
+
+def test_env_with_the_shadow_hand_steps_and_renders() -> None:
+    _needs_hands_extra()
+    env = HapticExploreEnv(
+        hand="shadow", fit=FAST_FIT, touch_budget=3, render_mode="rgb_array", width=160,
+        height=120,
+    )  # fmt: skip
+    assert env.n_fingers == 5
+    env.reset(seed=0)
+    total = 0
+    for k in range(3):
+        action = encode_touch(
+            np.array([np.cos(k), np.sin(k), 0.3]), np.pi / 2, 0.04, k + 1, 0.05, env.n_fingers
+        )
+        obs, reward, terminated, truncated, info = env.step(action)
+        assert env.observation_space.contains(obs)
+        total += info["new_contacts"]
+    # measured (seed 0): 16 contacts from the ff, mf and rf strokes
+    assert truncated and total >= 6
+    img = env.render()
+    assert img.shape == (120, 160, 3) and img.std() > 5
+    env.close()
+
+
+def test_unknown_hand_is_a_clear_error() -> None:
+    with pytest.raises(InvalidInputError, match="hapticsim, shadow, adroit"):
+        HapticExploreEnv(hand="allegro")
+
+
+@pytest.mark.slow
+def test_check_env_and_200_random_steps_with_the_shadow_hand() -> None:
+    """Issue 12: ``HapticExplore-v0(hand="shadow")`` passes check_env and runs 200 random steps
+    without NaN (measured: ~0.06 s a touch, statuses ok/missed/blocked)."""
+    _needs_hands_extra()
+    env = HapticExploreEnv(hand="shadow", fit=FAST_FIT, touch_budget=20, noise=0.02)
+    check_env(env, skip_render_check=True)
+    env.action_space.seed(0)
+    env.reset(seed=0)
+    statuses = set()
+    for _ in range(200):
         obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
         assert all(np.all(np.isfinite(v)) for v in obs.values()) and np.isfinite(reward)
         statuses.add(info["touch_status"])
