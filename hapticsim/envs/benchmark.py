@@ -75,3 +75,73 @@ def benchmark_env(
         "seconds_per_step": {k: v / steps for k, v in parts.items()},
         "full_fit_fraction": full / steps,
     }
+
+
+def benchmark_touch(
+    episodes: int = 20,
+    seed: int = 0,
+    hand: str = "hapticsim",
+    progress: bool = True,
+    **env_kwargs: Any,
+) -> dict[str, Any]:
+    """The MuJoCo backend's share of a step: the touch and the reset (issue 9 item 5).
+
+    Random actions on ``HapticExplore-v0(backend="mujoco")``, default settings otherwise.
+    The first episode of each paper body compiles its scene (~0.1 s); later ones reuse it
+    (:class:`~hapticsim.sim.scene.SceneCache`), so the reset is given per episode and amortised
+    over all episodes.
+
+    Args:
+        episodes: episodes (seeds ``seed .. seed + episodes - 1``), >= 1.
+        seed: first seed (environment and actions).
+        hand: the hand.
+        progress: print a line per episode on stderr.
+        **env_kwargs: further environment settings.
+
+    Returns:
+        ``touch_seconds`` (median, mean, p90 of ``info["timings"].touch``), ``reset_seconds``
+        (median, mean = amortised, first, max), ``step_seconds`` (median), ``steps``,
+        ``touch_statuses`` (counts) and the ``load_average`` before and after.
+    """
+    import os
+
+    import gymnasium as gym
+    import numpy as np
+
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
+
+    if episodes < 1:
+        raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
+    register_envs()
+    load = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
+    env = gym.make(HAPTIC_EXPLORE_ID, backend="mujoco", hand=hand, **env_kwargs)
+    env.action_space.seed(seed)
+    touch, step, reset = [], [], []
+    statuses: dict[str, int] = {}
+    for ep in range(episodes):
+        t = time.perf_counter()
+        env.reset(seed=seed + ep)
+        reset.append(time.perf_counter() - t)
+        done = False
+        while not done:
+            _, _, terminated, truncated, info = env.step(env.action_space.sample())
+            touch.append(info["timings"].touch)
+            step.append(info["timings"].step)
+            statuses[info["touch_status"]] = statuses.get(info["touch_status"], 0) + 1
+            done = terminated or truncated
+        if progress:
+            print(f"bench touch ({hand}): episode {ep + 1}/{episodes}", file=sys.stderr)
+    env.close()
+    return {
+        "backend": "mujoco",
+        "hand": hand,
+        "episodes": episodes,
+        "steps": len(touch),
+        "touch_seconds": {"median": float(np.median(touch)), "mean": float(np.mean(touch)),
+                          "p90": float(np.percentile(touch, 90))},
+        "reset_seconds": {"median": float(np.median(reset)), "mean": float(np.mean(reset)),
+                          "first": reset[0], "max": float(np.max(reset))},
+        "step_seconds": {"median": float(np.median(step))},
+        "touch_statuses": statuses,
+        "load_average": {"before": load, "after": list(os.getloadavg()) if load else None},
+    }  # fmt: skip
