@@ -53,7 +53,8 @@ class ContactState:
     Attributes:
         tips: per finger (index order), the strongest fingertip/object contact or None.
         other_object: number of contacts between the object and a non-tip part of the hand.
-        table: number of contacts between the hand and the table.
+        table: number of contacts between the hand and the table or the stand (contacts
+            between parts of the hand, which some models pair explicitly, are not counted).
     """
 
     tips: tuple[FingertipContact | None, ...]
@@ -101,7 +102,7 @@ def read_contacts(
                 other += 1
             else:
                 tips.append((i, finger, first))
-        elif g0 in hand_geoms or g1 in hand_geoms:
+        elif (g0 in hand_geoms) != (g1 in hand_geoms):  # not the hand's own contact pairs
             table += 1
     if not tips:
         return ContactState(tuple(best), other, table)

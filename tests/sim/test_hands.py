@@ -229,3 +229,16 @@ def test_third_party_hands_meet_the_issue_targets(hand: str, body: str, tmp_path
     assert acc["distance_median"] <= 5e-4
     assert acc["angle_median_deg"] <= 2.0 and acc["angle_p95_deg"] <= 10.0
     assert summary["metrics"]["epsilon"] <= 0.10
+
+
+def test_same_seed_same_contacts_with_the_shadow_hand() -> None:
+    _gymnasium_robotics()
+    from hapticsim.sim.session import run_exploration
+
+    box = Superquadric(a=(0.025, 0.03, 0.03), eps=(0.2, 0.2))
+    runs = [
+        run_exploration(box, "patch", count=20, rng=3, scene_config=SceneConfig(hand="shadow"))
+        for _ in range(2)
+    ]
+    for key, value in runs[0].arrays.items():
+        np.testing.assert_array_equal(value, runs[1].arrays[key], err_msg=key)
