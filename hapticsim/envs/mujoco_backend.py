@@ -173,14 +173,13 @@ class MujocoBackend(SupportedBackend):
         except HapticsimError as exc:  # SimulationError: unreachable goal, instability
             message = str(exc)
             ex.home()
-        new = ex.recorder.arrays()
+        new = ex.recorder.arrays(before)  # this touch's contacts only
         k = len(ex.recorder) - before
         seconds = time.perf_counter() - start
         if k == 0:
             status = "failed" if message else "missed"
             return TouchResult.empty(status, seconds, message or "no contact recorded")
-        pts_clean = new["points_clean"][before:]
-        nrm_clean = new["normals_clean"][before:]
+        pts_clean, nrm_clean = new["points_clean"], new["normals_clean"]
         if self.noise > 0:
             pts, nrm = add_noise(
                 pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
@@ -189,7 +188,7 @@ class MujocoBackend(SupportedBackend):
             pts, nrm = pts_clean.copy(), nrm_clean.copy()
         return TouchResult(
             points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
-            finger=new["finger"][before:], force=new["force"][before:], time=new["time"][before:],
+            finger=new["finger"], force=new["force"], time=new["time"],
             status="ok", seconds=seconds, message=message,
         )  # fmt: skip
 

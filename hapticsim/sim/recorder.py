@@ -52,22 +52,25 @@ class Recorder:
         self.pattern_of.append(int(pattern))
         return True
 
-    def arrays(self) -> dict[str, np.ndarray]:
+    def arrays(self, start: int = 0) -> dict[str, np.ndarray]:
         """The contacts as arrays.
+
+        Args:
+            start: index of the first contact to include (e.g. those of the latest touch).
 
         Returns:
             ``points_clean`` (n, 3) [m, world], ``normals_clean`` (n, 3) outward unit normals,
             ``finger`` (n,) int, ``force`` (n,) normal force [N], ``time`` (n,) [s],
             ``pattern`` (n,) int pattern id, ``dist`` (n,) surface separation [m].
         """
-        c = self.contacts
+        c = self.contacts[start:]
         return {
             "points_clean": np.array([x.point_world for x in c], dtype=np.float64).reshape(-1, 3),
             "normals_clean": np.array([x.normal_world for x in c], dtype=np.float64).reshape(-1, 3),
             "finger": np.array([x.finger for x in c], dtype=np.int64),
             "force": np.array([x.force for x in c], dtype=np.float64),
             "time": np.array([x.time for x in c], dtype=np.float64),
-            "pattern": np.array(self.pattern_of, dtype=np.int64),
+            "pattern": np.array(self.pattern_of[start:], dtype=np.int64),
             "dist": np.array([x.dist for x in c], dtype=np.float64),
         }
 
