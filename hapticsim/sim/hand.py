@@ -260,6 +260,10 @@ class Hand:
             for i, j in enumerate(joints):  # unlimited actuators: the joint range, if any
                 if not limited[i]:
                     ctrl[i] = model.jnt_range[j] if model.jnt_limited[j] else (-np.inf, np.inf)
+            if desc.actuation == "model" and desc.joint_margin > 0:  # added ones have it already
+                width = ctrl[:, 1] - ctrl[:, 0]
+                margin = np.where(np.isfinite(width), np.minimum(desc.joint_margin, width / 4), 0)
+                ctrl = ctrl + np.column_stack([margin, -margin])
             coupled = []
             for c in f.coupled:
                 pj = _id(model, mujoco.mjtObj.mjOBJ_JOINT, PREFIX + c.joint)

@@ -242,3 +242,16 @@ def test_same_seed_same_contacts_with_the_shadow_hand() -> None:
     ]
     for key, value in runs[0].arrays.items():
         np.testing.assert_array_equal(value, runs[1].arrays[key], err_msg=key)
+
+
+def test_joint_margins_shrink_the_control_ranges(tmp_path) -> None:
+    plain = load_hand(_write(tmp_path, TWO_FINGERS, "plain.toml"))
+    kept = load_hand(
+        _write(
+            tmp_path, TWO_FINGERS.replace("joint_margin = 0.01", "joint_margin = 0.05"), "kept.toml"
+        )
+    )
+    for hand, margin in ((plain, 0.01), (kept, 0.05)):
+        finger = build_scene(SPHERE, SceneConfig(hand=hand)).hand.fingers[1]
+        # index_flex1 spans -25..100 deg; its added actuator keeps `margin` from both ends
+        np.testing.assert_allclose(finger.ctrl_range[1], np.radians([-25, 100]) + [margin, -margin])

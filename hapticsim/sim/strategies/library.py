@@ -53,19 +53,22 @@ PATCH_HALF_WIDTH: float = np.radians(22.0)
 THUMB_PROBES: int = 8
 
 
-def _fill(explorer: Explorer, count: int, rng: np.random.Generator, rounds: int = 6) -> None:
-    """Random patches (index finger) until the recorder is full or `rounds` patches ran."""
+def _fill(explorer: Explorer, count: int, rng: np.random.Generator, rounds: int = 12) -> None:
+    """Random patches (index finger and thumb in turn) until the recorder is full or `rounds`
+    patches ran. The missing contacts are shared out over the rounds left (plus two probes for
+    misses), so that a fill spreads over the object instead of piling into one patch."""
+    hand = explorer.scene.hand
     for k in range(rounds):
         missing = count - len(explorer.recorder)
         if missing <= 0 or explorer.out_of_time:
             return
         eta0 = rng.uniform(-0.6, 1.1)
         omega0 = rng.uniform(-np.pi, np.pi)
+        share = int(np.ceil(missing / (rounds - k))) + 2
         probes = patch_probes(
             explorer.rough, (eta0 - PATCH_HALF_WIDTH, eta0 + PATCH_HALF_WIDTH),
-            (omega0 - PATCH_HALF_WIDTH, omega0 + PATCH_HALF_WIDTH), missing + 2, rng,
+            (omega0 - PATCH_HALF_WIDTH, omega0 + PATCH_HALF_WIDTH), share, rng,
         )  # fmt: skip
-        hand = explorer.scene.hand
         explorer.probe_patch(hand.index if k % 2 == 0 else hand.thumb, probes)
 
 
