@@ -140,12 +140,21 @@ def normals_array(value: Any, count: int, name: str = "normals") -> NDArray[np.f
     return arr / norm[:, None]
 
 
-def positive_int(value: Any, name: str, minimum: int = 1) -> int:
-    """An int >= `minimum` (bools rejected)."""
+def positive_int(value: Any, name: str, minimum: int = 1, maximum: int | None = None) -> int:
+    """An int in [`minimum`, `maximum`] (bools rejected).
+
+    `maximum` defaults to :data:`~hapticsim.constants.MAX_INT` (2**62), so that every accepted
+    value converts to a NumPy int64 exactly; counts that size arrays pass a tighter one.
+    """
+    from hapticsim.constants import MAX_INT
+
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise InvalidInputError(f"`{name}` must be an integer, got {value!r}")
     if value < minimum:
         raise InvalidInputError(f"`{name}` must be >= {minimum}, got {value}")
+    top = MAX_INT if maximum is None else maximum
+    if value > top:
+        raise InvalidInputError(f"`{name}` must be <= {top:,}, got {value:,}")
     return int(value)
 
 

@@ -75,13 +75,16 @@ def _positive_float(text: str) -> float:
 
 
 def _seed(text: str) -> int:
-    """argparse type of ``--seed``: an int >= 0 (what ``numpy.random.default_rng`` accepts)."""
+    """argparse type of ``--seed``: an int in [0, 2**62] (``numpy.random.default_rng`` takes any
+    int >= 0; the bound is the one every integer argument has, :data:`constants.MAX_INT`)."""
+    from hapticsim.constants import MAX_INT
+
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
+    if not 0 <= value <= MAX_INT:
+        raise argparse.ArgumentTypeError(f"must be an integer in [0, {MAX_INT}], got {text!r}")
     return value
 
 

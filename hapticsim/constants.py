@@ -20,3 +20,12 @@ MAX_COORDINATE: float = 1e6
 #: Smallest extent [m] of a contact set and smallest semi-axis read from a file: a nanometre;
 #: the fitter's bounds underflow below about 1e-150 m (measured: 1e-100 m fits, 1e-150 m fails).
 MIN_LENGTH: float = 1e-9
+#: Largest integer argument accepted anywhere (int64-exact; counts have tighter limits).
+MAX_INT: int = 2**62
+#: Most contacts a data set, an exploration or a sweep setting may ask for (arrays are sized by
+#: it: 10^6 contacts are 24 MB per (n, 3) array).
+MAX_CONTACTS: int = 1_000_000
+#: Largest budget of EOF evaluations (10^9 evaluations of 150 contacts take about a day).
+MAX_BUDGET: int = 1_000_000_000
+#: Most runs (data sets) per setting of a sweep (``reproduce --runs``).
+MAX_RUNS: int = 100_000

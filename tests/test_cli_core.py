@@ -13,6 +13,8 @@ import pytest
 
 from hapticsim.cli import main
 from hapticsim.data.bodies import get_body
+from hapticsim.data.io import write_contacts
+from hapticsim.data.synthetic import paper_dataset
 from hapticsim.geometry import Superquadric
 
 REPO = Path(__file__).resolve().parents[1]
@@ -76,6 +78,7 @@ def test_synth_csv_and_json_body(capsys, tmp_path: Path) -> None:
     [
         (["sphere"], "tapered_box, cube, cylinder, ellipsoid"),
         (["cube", "--count", "5"], "`count`"),
+        (["cube", "--count", "1000001"], "`count` must be <= 1,000,000"),  # no MemoryError
         (["cube", "--noise", "-1"], "`noise`"),
         (["cube", "--noise", "nan"], "`noise`"),
         (["cube", "--out", "c.txt"], "must end in"),
@@ -190,4 +193,28 @@ def test_huge_coordinates_end_in_one_line_not_a_linalg_error(tmp_path: Path) -> 
         "hapticsim fit: error: `points` must have coordinates within +-1e+06 m, got 2.37e+300 "
         "(metres expected)"
     ]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.npz"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "match"),
+    [
+        # found by tests/fuzz: --runs 1e20 built a trial list until the machine ran out of memory
+        (["reproduce", "fig4", "--runs", str(10**20)], "`runs` must be <= 100,000"),
+        (["fit", "c.npz", "--budget", str(2**70)], "`budget` must be <= 1,000,000,000"),
+        (["explore", "--count", "1000001"], "`count` must be <= 1,000,000"),
+        (["explore", "--seed", str(2**70)], "--seed: must be an integer in"),
+    ],
+)
+def test_huge_integer_arguments_are_refused_up_front(
+    capsys, tmp_path: Path, monkeypatch, argv: list, match: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write_contacts("c.npz", paper_dataset(get_body("cube"), rng=0))
+    try:
+        code = main([*argv, "--out", "out"])
+    except SystemExit as exc:  # argparse's own checks
+        code = exc.code
+    out, err = capsys.readouterr()
+    assert_bad_input(code, out, err, argv[0], match)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["c.npz"]

@@ -87,7 +87,8 @@ def read_contacts(path: str | Path) -> Contacts:
 
 def _read_npz(path: Path) -> Contacts:
     try:
-        with np.load(path, allow_pickle=False) as data:
+        # np.load leaves its own handle open when the file is not a zip: pass ours
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
     except Exception as exc:  # zipfile/pickle errors: report in one line
         raise InvalidInputError(f"cannot read {path} as .npz: {exc}") from exc

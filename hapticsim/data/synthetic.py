@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import as_generator, finite_float, positive_int
+from hapticsim.constants import MAX_CONTACTS
 from hapticsim.data.io import Contacts
 from hapticsim.data.noise import add_noise
 from hapticsim.data.patterns import Patch, Pattern, Stripe, render
@@ -99,7 +100,7 @@ def paper_patterns(truth: Superquadric, count: int = 150) -> tuple[tuple[str, Pa
         ``(name, pattern)`` pairs; the pattern id of a contact is the index in this tuple.
     """
     layout = _PRISMATIC if is_prismatic(truth) else _ROUND
-    n = positive_int(count, "count", minimum=MIN_COUNT)
+    n = positive_int(count, "count", minimum=MIN_COUNT, maximum=MAX_CONTACTS)
     counts = _allocate(n, [w for _, w, _ in layout])
     return tuple((name, make(k)) for (name, _, make), k in zip(layout, counts, strict=True))
 

@@ -10,10 +10,11 @@ from hapticsim.errors import InvalidInputError
 
 def check_common(count: int, runs: int, seed: int, methods: Sequence[str]) -> None:
     """Checks shared by the figure configs."""
+    from hapticsim.constants import MAX_CONTACTS, MAX_RUNS
     from hapticsim.fitting.methods import METHODS
 
-    positive_int(count, "count")
-    positive_int(runs, "runs")
+    positive_int(count, "count", maximum=MAX_CONTACTS)
+    positive_int(runs, "runs", maximum=MAX_RUNS)
     positive_int(seed, "seed", minimum=0)
     if not methods:
         raise InvalidInputError("`methods` must not be empty")

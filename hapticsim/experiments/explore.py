@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim._validate import finite_float, positive_int
+from hapticsim.constants import MAX_CONTACTS
 from hapticsim.errors import InvalidInputError, SimulationError
 
 # headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
@@ -97,6 +98,7 @@ def explore(
     """
     from hapticsim.data.objects import ObjectSpec, Pose
     from hapticsim.fitting import METHODS
+    from hapticsim.sim.session import MIN_CONTACTS
 
     if isinstance(pose, str):
         pose = Pose.parse(pose)
@@ -113,6 +115,7 @@ def explore(
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     sigma = finite_float(noise, "noise", low=0.0)
     seed = positive_int(seed, "seed", minimum=0)
+    count = positive_int(count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.video import VideoConfig, check_video_support
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim._validate import positive_int
+from hapticsim.constants import MAX_BUDGET
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
 from hapticsim.experiments.stats import summarize
@@ -71,7 +72,7 @@ class Fig4Config:
         check_bodies(self.bodies, "bodies")
         check_common(self.count, self.runs, self.seed, self.methods)
         check_noise(self.noise, "noise")
-        positive_int(self.budget, "budget")
+        positive_int(self.budget, "budget", maximum=MAX_BUDGET)
 
     def trials(self) -> list[Trial]:
         """The trials of the figure, body-major, then run, then method."""

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim._validate import positive_int
+from hapticsim.constants import MAX_BUDGET
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
 from hapticsim.experiments.stats import summarize
@@ -76,11 +77,11 @@ class Fig5Config:
         check_common(self.count, self.runs, self.seed, self.methods)
         check_bodies((self.budget_body, self.noise_body), "budget_body/noise_body")
         check_noise(self.budget_noise, "budget_noise")
-        positive_int(self.noise_budget, "noise_budget")
+        positive_int(self.noise_budget, "noise_budget", maximum=MAX_BUDGET)
         if not self.budgets or not self.noises:
             raise InvalidInputError("`budgets` and `noises` must not be empty")
         for b in self.budgets:
-            positive_int(b, "budgets")
+            positive_int(b, "budgets", maximum=MAX_BUDGET)
         for s in self.noises:
             check_noise(s, "noises")
             if s <= 0:

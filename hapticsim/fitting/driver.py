@@ -15,7 +15,7 @@ from hapticsim._validate import (
     physical_points,
     positive_int,
 )
-from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.constants import DEFAULT_LAMBDA, MAX_BUDGET
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, seed_vectors
@@ -86,7 +86,9 @@ def fit(
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:
         raise InvalidInputError(f"method {method} needs `normals`; use LS or H for points only")
-    n_evals = DEFAULT_BUDGET if budget is None else positive_int(budget, "budget")
+    n_evals = (
+        DEFAULT_BUDGET if budget is None else positive_int(budget, "budget", maximum=MAX_BUDGET)
+    )
     gen = as_generator(rng)
     weight = finite_float(lam, "lam", low=0.0)
     warm = None if initial is None else superquadric_arg(initial, "initial")

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim._validate import as_generator, positive_int
+from hapticsim.constants import MAX_CONTACTS
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
@@ -116,7 +117,7 @@ def run_exploration(
     """
     truth = truth_arg(truth, "truth")
     run_strategy = get_strategy(strategy)
-    count = positive_int(count, "count", minimum=MIN_CONTACTS)
+    count = positive_int(count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)
     gen = as_generator(rng)
     rough_rng, strategy_rng = gen.spawn(2)
     start = time.perf_counter()

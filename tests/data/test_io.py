@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import gc
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -107,6 +109,16 @@ def test_npz_arrays_of_the_wrong_dtype_are_refused(
     np.savez(tmp_path / "n.npz", points=np.eye(4)[:, :3], normals=points)
     with pytest.raises(HapticsimError, match=match.replace("`points`", "`normals`")):
         read_contacts(tmp_path / "n.npz")
+
+
+def test_a_corrupt_npz_leaves_no_file_handle_open(tmp_path: Path) -> None:
+    # found by tests/fuzz: np.load kept its handle on a non-zip file (a ResourceWarning)
+    (tmp_path / "c.npz").write_bytes(b"PK\x03\x04 not really a zip")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(HapticsimError, match="cannot read"):
+            read_contacts(tmp_path / "c.npz")
+        gc.collect()  # an unclosed file warns when it is collected
 
 
 def test_npz_content_errors(tmp_path: Path) -> None:
