@@ -29,6 +29,17 @@ PROTOCOLS: tuple[str, ...] = ("tcp", "tls", "ws", "wss", "ucx", "inproc")
 #: What the ``dask`` extra installs.
 INSTALL_HINT: str = "pip install 'hapticsim[dask]'"
 
+#: Dask settings of the worker processes of a ``local:N`` cluster. Dask's default
+#: ``MALLOC_TRIM_THRESHOLD_=65536`` turns off glibc's adaptive mmap threshold, and every large
+#: numpy temporary then costs fresh page faults: measured 1.5x the CPU time per fit-v1 case. The
+#: statistical profiler (a thread sampling every 10 ms) costs another ~10 %. For a remote
+#: cluster, set the same when starting the workers, e.g.
+#: ``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED=False`` and no ``MALLOC_TRIM_THRESHOLD_``.
+LOCAL_WORKER_SETTINGS: dict[str, object] = {
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    "distributed.worker.profile.enabled": False,
+}
+
 _LOCAL = re.compile(r"local:(\d+)")
 _REMOTE = re.compile(r"(?P<proto>[a-z]+)://(?P<host>[^/:]*|\[[^\]]*\]):(?P<port>\d+)/?")
 
@@ -128,6 +139,7 @@ class DaskExecutor(Executor[T, R]):
                 settings = {
                     "distributed.scheduler.allowed-failures": 0,
                     "distributed.scheduler.worker-saturation": 1.0,
+                    **LOCAL_WORKER_SETTINGS,
                 }
                 with dask.config.set(settings):
                     self._cluster = LocalCluster(

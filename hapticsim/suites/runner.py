@@ -19,6 +19,7 @@ SHA-256 of the case records without those two keys; equal digests mean identical
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import hashlib
 import json
@@ -113,21 +114,17 @@ def run_suite(
     started = datetime.datetime.now(datetime.UTC)
     load_start = load_average()
     clock = time.perf_counter()
-    engine = executor if executor is not None else make_executor(workers, scheduler, timeout)
     try:
-        if executor is None:
-            engine.__enter__()
-        description = engine.describe()
-        records = engine.map(
-            run_case, tasks, names=lambda t: t.label, desc=f"suite {suite.id}", unit="case",
-            progress=progress, cost=case_cost,
-        )  # fmt: skip
+        with contextlib.ExitStack() as stack:
+            engine = executor or stack.enter_context(make_executor(workers, scheduler, timeout))
+            description = engine.describe()
+            records = engine.map(
+                run_case, tasks, names=lambda t: t.label, desc=f"suite {suite.id}",
+                unit="case", progress=progress, cost=case_cost,
+            )  # fmt: skip
     except WorkerDiedError as exc:
         where = f"{out} was not written" if out is not None else "no results"
         raise WorkerDiedError(f"{exc}; the run was stopped, {where}", task=exc.task) from None
-    finally:
-        if executor is None:
-            engine.close()
     seconds = time.perf_counter() - clock
     results = _assemble(suite, selected, records, fitter, policy, cases)
     results["summary"].update(

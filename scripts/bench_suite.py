@@ -1,0 +1,54 @@
+"""Time a suite on each engine and check that the engines agree, byte for byte (JSON on stdout).
+
+    python scripts/bench_suite.py                        # fit-v1: --workers 2, then local:2
+    python scripts/bench_suite.py explore-v1 --engines workers:2
+
+Issue bar: ``suite run fit-v1`` in at most 5 minutes with 2 workers, and the same per-case
+metrics with ``--scheduler local:2``. The machine is shared: the load average is printed beside
+every time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+from hapticsim.suites import run_suite
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("suite", nargs="?", default="fit-v1")
+    parser.add_argument(
+        "--engines", nargs="+", default=["workers:2", "local:2"],
+        help="workers:N (local processes) or local:N / tcp://... (Dask)",
+    )  # fmt: skip
+    parser.add_argument("--cases", default=None, help="case-id pattern")
+    args = parser.parse_args(argv)
+    report: dict = {"suite": args.suite, "cases": args.cases, "runs": []}
+    digests = set()
+    for engine in args.engines:
+        kind, _, value = engine.partition(":")
+        options = {"workers": int(value)} if kind == "workers" else {"scheduler": engine}
+        load = os.getloadavg()
+        start = time.perf_counter()
+        results = run_suite(args.suite, cases=args.cases, **options)
+        seconds = time.perf_counter() - start
+        digest = results["summary"]["metrics_sha256"]
+        digests.add(digest)
+        report["runs"].append({
+            "engine": engine, "seconds": round(seconds, 1), "cases": results["summary"]["cases"],
+            "failed": results["summary"]["failed"], "metrics_sha256": digest,
+            "load_average_before": [round(x, 2) for x in load],
+            "load_average_after": [round(x, 2) for x in os.getloadavg()],
+        })  # fmt: skip
+    report["identical"] = len(digests) == 1
+    sys.stdout.write(json.dumps(report, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
