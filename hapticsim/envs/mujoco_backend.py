@@ -78,7 +78,7 @@ class MujocoBackend(SupportedBackend):
     ) -> None:
         from dataclasses import replace
 
-        from hapticsim.sim.scene import SceneCache, SceneConfig
+        from hapticsim.sim.scene import PlanningSceneCache, SceneCache, SceneConfig
 
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-3, 0.05)
@@ -91,6 +91,8 @@ class MujocoBackend(SupportedBackend):
         #: compiled scenes of the objects seen so far (a paper body comes back every few
         #: episodes; its scene is compiled once).
         self._scenes = SceneCache()
+        #: planning scenes of the rough objects (a primitive resized in place every episode).
+        self._planning = PlanningSceneCache()
         self._truth: Superquadric | None = None
         self._rng: np.random.Generator | None = None
         self._explorer = None
@@ -121,13 +123,12 @@ class MujocoBackend(SupportedBackend):
         from hapticsim.sim.explorer import Explorer, ExplorerConfig, planning_config
         from hapticsim.sim.recorder import Recorder
         from hapticsim.sim.rough import vision_estimate
-        from hapticsim.sim.scene import build_scene
 
         self.close()
         scene = self._scenes.scene(shape, self.scene_config)
         if rough is None:
             rough = vision_estimate(shape, rng)
-        planning = build_scene(rough.shape, planning_config(scene.config))
+        planning = self._planning.scene(rough.shape, planning_config(scene.config))
         self._explorer = Explorer(
             scene, rough, Recorder(None), ExplorerConfig(), planning_scene=planning
         )

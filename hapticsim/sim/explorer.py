@@ -31,7 +31,7 @@ from hapticsim.sim.hand import finger_index
 from hapticsim.sim.planning import PalmPlanner, PalmPose
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject
-from hapticsim.sim.scene import Scene, SceneConfig, build_scene
+from hapticsim.sim.scene import Scene, SceneConfig, build_planning_scene
 from hapticsim.sim.simulator import Simulator
 
 Array = NDArray[np.float64]
@@ -47,9 +47,13 @@ PLACE_CLEARANCE: float = 0.001
 
 
 def planning_config(config: SceneConfig) -> SceneConfig:
-    """The build options of a planning scene for a scene built with `config`: the same hand
-    and workspace, a coarser mesh (:data:`PLANNING_MESH_RESOLUTION`)."""
-    return replace(config, mesh_resolution=PLANNING_MESH_RESOLUTION)
+    """The build options of a planning scene for a scene built with `config`: the same hand, a
+    coarser mesh (:data:`PLANNING_MESH_RESOLUTION`), and a workspace that accepts the rough
+    object even where the estimate came out larger than an explorable object (the true object
+    was checked; palm goals are still checked against the arm's reach)."""
+    w = config.workspace
+    relaxed = replace(w, max_object_radius=max(2.0 * w.max_object_radius, w.reach), clearance=1e-6)
+    return replace(config, mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=relaxed)
 
 
 @dataclass(frozen=True)
@@ -131,7 +135,7 @@ class Explorer:
         on_pattern_end: called with the explorer after every pattern, fingers still on the
             object (e.g. to take a picture).
         planning_scene: the scene the palm planner works on; it must hold the rough object
-            (default: built from ``rough.shape``, see :func:`planning_scene`).
+            (default: :func:`~hapticsim.sim.scene.build_planning_scene` of ``rough.shape``).
     """
 
     def __init__(
@@ -152,7 +156,7 @@ class Explorer:
         self.on_pattern_end = on_pattern_end
         self.sim = Simulator(scene)
         if planning_scene is None:
-            planning_scene = build_scene(rough.shape, planning_config(scene.config))
+            planning_scene = build_planning_scene(rough.shape, planning_config(scene.config))
         self.planner = PalmPlanner(planning_scene)
         self.patterns_run = 0
         self.log: list[dict[str, object]] = []

@@ -14,7 +14,8 @@ from __future__ import annotations
 import copy
 import hashlib
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -176,9 +177,12 @@ def build_scene(truth: Superquadric | MeshSolid, config: SceneConfig | None = No
 
 
 def _compile(
-    truth: Superquadric | MeshSolid, config: SceneConfig | None
+    truth: Superquadric | MeshSolid, config: SceneConfig | None, primitive: Any = None
 ) -> tuple[Scene, CollisionParts]:
-    """The scene and the object's collision parts (body frame)."""
+    """The scene and the object's collision parts (body frame); with `primitive` (a
+    ``mujoco.mjtGeom`` box or ellipsoid), the object collides as that primitive of half sizes
+    ``truth.a`` (planning scenes, :class:`PlanningSceneCache`) and the parts only lay out its
+    surroundings."""
     config = SceneConfig() if config is None else config
     config.workspace.check_object(truth)
 
@@ -198,6 +202,11 @@ def _compile(
         quat=matrix_to_quaternion(collision.body_rotation).tolist(),
     )
     for k, vertices in enumerate(collision.parts):
+        if primitive is not None:
+            body.add_geom(name=OBJECT_NAME, type=primitive, size=truth.a.tolist(), contype=1,
+                          conaffinity=2, rgba=[0.35, 0.55, 0.85, 1.0])  # fmt: skip
+            collision = replace(collision, method=f"{primitive.name[8:].lower()} primitive")
+            break
         spec.add_mesh(name=_part_name(k), uservert=vertices.ravel().tolist())
         body.add_geom(
             name=_part_name(k),
@@ -347,13 +356,114 @@ class SceneCache:
         self._entries.clear()
 
 
+# ----------------------------------------------------------------------------- planning scenes
+def planning_primitive(shape: Superquadric | MeshSolid) -> Any:
+    """The primitive geom (``mujoco.mjtGeom``) that stands for a rough object in planning, or None.
+
+    An untapered superquadric with both exponents 1 is an ellipsoid; one with both exponents at
+    most :data:`PRIMITIVE_BOX_EPS` is a box of its semi-axes (which contains it: 1.6 mm beyond
+    it at the corners of a 3 cm cube with exponents 0.1). Those are the two shapes
+    :func:`~hapticsim.sim.rough.vision_estimate` gives.
+    """
+    if not isinstance(shape, Superquadric) or np.any(shape.taper != 0.0):
+        return None
+    if np.all(shape.eps == 1.0):
+        return mujoco.mjtGeom.mjGEOM_ELLIPSOID
+    if np.all(shape.eps <= PRIMITIVE_BOX_EPS):
+        return mujoco.mjtGeom.mjGEOM_BOX
+    return None
+
+
+#: Largest exponent of a rough object planned on as a box (:func:`planning_primitive`).
+PRIMITIVE_BOX_EPS: float = 0.2
+
+
+def _replace_primitive(scene: Scene, shape: Superquadric, collision: CollisionParts) -> Scene:
+    """`scene` (its model changed in place) with its primitive object resized and moved to
+    `shape`, and the stand, the table and the camera placed for it."""
+    model = scene.model
+    layout = _layout(shape, collision)
+    g, stand = scene.object_geom_id, scene.stand_geom_id
+    a = shape.a
+    model.geom_size[g] = a
+    box = model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX
+    model.geom_rbound[g] = float(np.linalg.norm(a)) if box else float(np.max(a))
+    model.geom_aabb[g] = [0.0, 0.0, 0.0, *a]
+    model.body_pos[scene.object_body_id] = shape.center
+    model.body_quat[scene.object_body_id] = shape.quaternion
+    radius, half = layout.stand_radius, float(model.geom_size[stand][1])
+    model.geom_size[stand][0] = radius
+    model.geom_rbound[stand] = float(np.hypot(radius, half))
+    model.geom_aabb[stand] = [0.0, 0.0, 0.0, radius, radius, half]
+    model.geom_pos[stand] = layout.stand_pos
+    # the mid-phase's bounding boxes: one node each for the object's body and the world body
+    # (whose only geom is the stand; PlanningSceneCache checks both)
+    model.bvh_aabb[model.body_bvhadr[scene.object_body_id]] = [0.0, 0.0, 0.0, *a]
+    model.bvh_aabb[model.body_bvhadr[0]] = [*layout.stand_pos, radius, radius, half]
+    table = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, TABLE_PREFIX + "table"))
+    model.body_pos[table] = layout.table_pos
+    return replace(scene, truth=shape, table_top_z=layout.table_top_z)
+
+
+def _resizable(scene: Scene) -> bool:
+    """True when :func:`_replace_primitive` can update every bounding volume of `scene`: the
+    object body and the world body hold one geom each (the primitive, the stand)."""
+    m = scene.model
+    world_geoms = int(np.sum(m.geom_bodyid == 0))
+    return bool(m.body_bvhnum[scene.object_body_id] == 1 and m.body_bvhnum[0] == 1
+                and world_geoms == 1 and len(scene.object_geom_ids) == 1)  # fmt: skip
+
+
+class PlanningSceneCache:
+    """Planning scenes (the rough object, :class:`~hapticsim.sim.planning.PalmPlanner`) for a
+    sequence of episodes, without compiling one per episode.
+
+    A rough object that a primitive stands for (:func:`planning_primitive`: what the vision
+    estimate gives) is planned on as that box or ellipsoid, in a model compiled once per kind and
+    configuration and then resized and moved in place: the planning scene returned before for
+    the same kind is changed with it, so use one at a time (one episode's explorer). Other rough
+    objects get a compiled mesh scene (:func:`build_scene`).
+    """
+
+    def __init__(self) -> None:
+        self._models: dict[tuple[object, ...], Scene] = {}
+
+    def scene(self, rough_shape: Superquadric | MeshSolid, config: SceneConfig) -> Scene:
+        """The planning scene of `rough_shape` under `config` (see the class docstring)."""
+        primitive = planning_primitive(rough_shape)
+        if primitive is None:
+            return build_scene(rough_shape, config)
+        key = (int(primitive), _config_key(config))
+        scene = self._models.get(key)
+        if scene is None:
+            scene = build_planning_scene(rough_shape, config)
+            if _resizable(scene):
+                self._models[key] = scene
+            return scene
+        config.workspace.check_object(rough_shape)
+        collision = collision_parts(rough_shape, config.mesh_resolution)
+        return _replace_primitive(scene, rough_shape, collision)
+
+
+def build_planning_scene(rough_shape: Superquadric | MeshSolid, config: SceneConfig) -> Scene:
+    """A planning scene of a rough object: the primitive that stands for it
+    (:func:`planning_primitive`), else its mesh (:func:`build_scene`)."""
+    primitive = planning_primitive(rough_shape)
+    if primitive is None:
+        return build_scene(rough_shape, config)
+    return _compile(truth_arg(rough_shape, "rough_shape"), config, primitive)[0]
+
+
 __all__ = [
     "DEFAULT_FRICTION",
     "DEFAULT_MESH_RESOLUTION",
     "DEFAULT_TIMESTEP",
     "STAND_HEIGHT",
+    "PlanningSceneCache",
     "Scene",
     "SceneCache",
+    "planning_primitive",
     "SceneConfig",
+    "build_planning_scene",
     "build_scene",
 ]
