@@ -11,6 +11,7 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any, NoReturn
 
 from hapticsim.errors import HapticsimError
@@ -113,11 +114,15 @@ def _cmd_synth(args: argparse.Namespace) -> int:
 
 
 def _cmd_score(args: argparse.Namespace) -> int:
+    from hapticsim.data.objects import MESH_SUFFIXES, load_mesh
     from hapticsim.geometry import Superquadric
     from hapticsim.metrics import score
 
     estimate = Superquadric.from_json(args.estimate)
-    truth = Superquadric.from_json(args.truth)
+    if Path(args.truth).suffix.lower() in MESH_SUFFIXES:  # a mesh truth, as it stands
+        truth = load_mesh(args.truth)
+    else:
+        truth = Superquadric.from_json(args.truth)
     _print_json(score(estimate, truth, rng=args.seed).to_dict())
     return 0
 
@@ -286,7 +291,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("score", help="quality measures of an estimate against the truth")
     p.add_argument("estimate", help="superquadric or fit-result JSON")
-    p.add_argument("truth", help="superquadric JSON")
+    p.add_argument(
+        "truth", help="superquadric JSON, or a mesh file (.stl/.obj/.ply/.off, metres, as it is)"
+    )
     p.add_argument("--seed", type=_seed, default=0, help="seed of the volume sampling")
     p.set_defaults(func=_cmd_score)
 

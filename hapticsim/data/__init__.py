@@ -5,6 +5,8 @@
 - :mod:`~hapticsim.data.bodies`: the paper's four bodies, :func:`get_body`, :func:`resolve_body`.
 - :mod:`~hapticsim.data.synthetic`: :func:`paper_dataset`, the paper's exploration data sets.
 - :mod:`~hapticsim.data.io`: :class:`Contacts` and contact/JSON files.
+- :mod:`~hapticsim.data.objects`: objects from anywhere (``ObjectSpec``: body names, superquadric
+  files, random shapes, mesh files); :mod:`~hapticsim.data.example_meshes`.
 """
 
 from hapticsim.data.bodies import BODY_NAMES, get_body, resolve_body

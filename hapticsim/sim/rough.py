@@ -18,8 +18,10 @@ camera) and fits a primitive to it, knowing nothing else of the object:
    :data:`BOX_EPS`): for each of up to three detected planes, the box with one axis along the
    plane's normal and the other two from the minimum-area rectangle of the cloud projected on the
    plane (extents between the 0.5 and 99.5 percentiles), the one of least volume kept; without
-   edges, an ellipsoid fitted to the cloud by least squares on the radial distance. Never the
-   true exponents or taper.
+   edges, an ellipsoid fitted to the cloud by least squares on the radial distance and on the
+   outline in the image (which the camera sees whole and which pins the unseen far side),
+   upright (turned about the vertical only: objects rest on a support) unless a tilted one
+   fits much better (:data:`TILT_RMS_RATIO`). Never the true exponents or taper.
 
 Controllers plan approach points and palm poses on this estimate; every recorded contact still
 comes from MuJoCo's contact data on the true object. The body axes of the estimate are ordered so
@@ -51,6 +53,11 @@ EDGE_EPS: float = 0.5
 #: Measured on the default camera (docs/objects.md): the paper's ellipsoid 0.03, its box-like
 #: bodies and cylinder 0.26-0.51.
 EDGE_PLANE_FRACTION: float = 0.15
+#: A round object's ellipsoid may tilt away from upright only when that brings the RMS of its
+#: radial distances below this fraction of the upright one's. Measured (default camera): a
+#: tilted ellipsoid 0.41; tapered round superquadrics, which no ellipsoid fits, 0.78-0.95
+#: (their free fits tilt 20-45 degrees and mislead the planner).
+TILT_RMS_RATIO: float = 0.6
 #: Exponents (eps1, eps2) of the box the estimate gives for an object with edges.
 BOX_EPS: tuple[float, float] = (0.1, 0.1)
 #: Neighbours of a point's local normal.
@@ -361,33 +368,78 @@ def _box_along(cloud: Array, normal: Array) -> tuple[Array, Array, Array]:
     return rot, rot @ (0.5 * (lo + hi)), np.maximum(0.5 * (hi - lo), 1e-3)
 
 
-def _ellipsoid(cloud: Array, eye: Array) -> tuple[Array, Array, Array]:
-    """Least-squares ellipsoid (radial distance) of a cloud: rotation, centre, semi-axes."""
+def _camera_axes(cloud: Array, eye: Array) -> Array:
+    """(3, 3) float, columns right, up, forward of a camera at `eye` looking at the cloud."""
+    forward = cloud.mean(axis=0) - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    if np.linalg.norm(right) < 1e-9:
+        right = np.array([1.0, 0.0, 0.0])
+    right /= np.linalg.norm(right)
+    return np.stack([right, np.cross(right, forward), forward], axis=1)
+
+
+def _ellipsoid(
+    cloud: Array, eye: Array, noise: float, pixel: float, upright: bool = False
+) -> tuple[Array, Array, Array, float]:
+    """Ellipsoid of a round object's visible side: rotation, centre, semi-axes and the RMS of
+    the radial distances [m].
+
+    Least squares on the radial distance of the points (scaled by the depth noise) and on the
+    outline: the ellipsoid's extent across the image (along the camera's right and up axes,
+    ``c.d +- sqrt(d^T R diag(a^2) R^T d)``) must match the cloud's (scaled by the pixel size).
+    The visible side alone leaves the far side free (a larger ellipsoid further back fits a
+    cap as well); the outline, which the camera sees whole, pins it. ``upright`` turns the
+    ellipsoid about the vertical only.
+    """
     from scipy.optimize import least_squares
 
-    centre0 = cloud.mean(axis=0)
-    d = cloud - centre0
-    _, vecs = np.linalg.eigh(d.T @ d)
-    if np.linalg.det(vecs) < 0:
-        vecs[:, 0] *= -1.0
-    extent = 0.5 * np.ptp(d @ vecs, axis=0)
-    view = (centre0 - eye) / np.linalg.norm(centre0 - eye)
-    # the unseen half lies behind the visible side: start the centre one mean extent deeper
-    x0 = np.concatenate([np.maximum(extent, 2e-3), np.zeros(3), centre0 + view * extent.mean()])
+    axes = _camera_axes(cloud, eye)
+    image = (cloud @ axes)[:, :2]
+    lo, hi = np.percentile(image, 0.5, axis=0), np.percentile(image, 99.5, axis=0)
+    d = cloud - cloud.mean(axis=0)
+    if upright:  # principal axes of the horizontal spread, z up
+        _, v2 = np.linalg.eigh(d[:, :2].T @ d[:, :2])
+        vecs = np.eye(3)
+        vecs[:2, :2] = v2 if np.linalg.det(v2) > 0 else v2[:, ::-1]
+    else:
+        _, vecs = np.linalg.eigh(d.T @ d)
+        if np.linalg.det(vecs) < 0:
+            vecs[:, 0] *= -1.0
+    extent = np.maximum(0.5 * np.ptp(d @ vecs, axis=0), 2e-3)
+    sigma = max(noise, 5e-4)
+    limit = 2.0 * float(np.max(hi - lo)) + 2e-3
     base = vecs
-    limit = 2.0 * float(np.max(np.ptp(cloud, axis=0)))
+    view = axes[:, :2]  # (3, 2): right and up
+    free = slice(2, 3) if upright else slice(0, 3)  # rotation-vector components fitted
+    n_rot = free.stop - free.start
 
-    def residuals(x: Array) -> Array:
-        a, rot = x[:3], base @ rotvec_to_matrix(x[3:6])
-        p = (cloud - x[6:]) @ rot
+    def unpack(x: Array) -> tuple[Array, Array, Array]:
+        rotvec = np.zeros(3)
+        rotvec[free] = x[3 : 3 + n_rot]
+        return x[:3], base @ rotvec_to_matrix(rotvec), x[-3:]
+
+    def radial(x: Array) -> Array:
+        a, rot, c = unpack(x)
+        p = (cloud - c) @ rot
         f = np.sqrt(np.sum((p / a) ** 2, axis=1))
         return np.linalg.norm(p, axis=1) * (1.0 - 1.0 / np.maximum(f, 1e-12))
 
-    lo = np.concatenate([np.full(3, 1e-3), np.full(3, -np.pi), np.full(3, -np.inf)])
-    hi = np.concatenate([np.full(3, limit), np.full(3, np.pi), np.full(3, np.inf)])
-    sol = least_squares(residuals, np.clip(x0, lo + 1e-9, hi - 1e-9), bounds=(lo, hi),
-                        x_scale="jac", max_nfev=200)  # fmt: skip
-    return base @ rotvec_to_matrix(sol.x[3:6]), sol.x[6:], sol.x[:3]
+    def residuals(x: Array) -> Array:
+        a, rot, c = unpack(x)
+        reach = np.sqrt(np.sum((rot.T @ view) ** 2 * (a**2)[:, None], axis=0))  # (2,)
+        mid = c @ view
+        outline = np.concatenate([mid + reach - hi, mid - reach - lo]) / pixel
+        return np.concatenate([radial(x) / sigma, outline])
+
+    centre0 = cloud.mean(axis=0) + axes[:, 2] * float(np.mean(extent))  # one extent deeper
+    x0 = np.concatenate([np.minimum(extent, limit - 1e-3), np.zeros(n_rot), centre0])
+    bounds_lo = np.concatenate([np.full(3, 1e-3), np.full(n_rot, -np.pi), np.full(3, -np.inf)])
+    bounds_hi = np.concatenate([np.full(3, limit), np.full(n_rot, np.pi), np.full(3, np.inf)])
+    sol = least_squares(residuals, np.clip(x0, bounds_lo + 1e-9, bounds_hi - 1e-9),
+                        bounds=(bounds_lo, bounds_hi), x_scale="jac", max_nfev=200)  # fmt: skip
+    a, rot, c = unpack(sol.x)
+    return rot, c, a, float(np.sqrt(np.mean(radial(sol.x) ** 2)))
 
 
 def vision_estimate(
@@ -428,8 +480,18 @@ def vision_estimate(
         rot, centre, half = min(boxes, key=lambda b: float(np.prod(b[2])))
         eps, method = BOX_EPS, "oriented bounding box on the largest planes (least volume)"
     else:
-        rot, centre, half = _ellipsoid(sample[:_ELLIPSOID_POINTS], eye)
-        eps, method = (1.0, 1.0), "least-squares ellipsoid (radial distance)"
+        pixel = cam.distance * cam.pixel_angle
+        sub = sample[:_ELLIPSOID_POINTS]
+        upright = _ellipsoid(sub, eye, cam.depth_noise, pixel, upright=True)
+        tilted = _ellipsoid(sub, eye, cam.depth_noise, pixel)
+        keep_tilt = tilted[3] < TILT_RMS_RATIO * upright[3]
+        rot, centre, half, rms = tilted if keep_tilt else upright
+        eps = (1.0, 1.0)
+        method = (
+            f"least-squares ellipsoid (radial distance and outline), "
+            f"{'tilted' if keep_tilt else 'upright'}; RMS {rms * 1e3:.2f} mm (upright "
+            f"{upright[3] * 1e3:.2f} mm, tilted {tilted[3] * 1e3:.2f} mm)"
+        )
     rot, half = _canonical(rot, half)
     shape = Superquadric(a=half, eps=eps, rotation=rot, center=centre)
     vision = {
@@ -445,6 +507,7 @@ def vision_estimate(
 
 __all__ = [
     "BOX_EPS",
+    "TILT_RMS_RATIO",
     "DepthCamera",
     "EDGE_EPS",
     "EDGE_PLANE_FRACTION",

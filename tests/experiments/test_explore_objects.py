@@ -130,3 +130,13 @@ def test_help_lists_object_kinds_and_strategies(capsys) -> None:
     for word in ("random_tapered", "superquadric", ".stl", "mesh", "paper", "patch", "stripe",
                  "sweep", "--scale", "--pose"):  # fmt: skip
         assert word in text, word
+
+
+def test_score_takes_the_written_truth_stl(mesh_run, capsys) -> None:
+    files = mesh_run["files"]
+    assert main(["score", files["fit"], files["truth"], "--seed", "2"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    metrics = json.load(open(files["metrics"]))
+    # the same solid (the STL rounds vertices to float32) and seed: equal to 1e-3
+    assert printed["epsilon"] == pytest.approx(metrics["epsilon"], abs=1e-3)
+    assert printed["volume_method"].startswith("Monte Carlo against a mesh truth")

@@ -98,3 +98,20 @@ def test_too_small_an_object_is_refused() -> None:
 def test_camera_settings_are_checked(field: str, value: float) -> None:
     with pytest.raises(InvalidInputError, match=field):
         DepthCamera(**{field: value})
+
+
+def test_a_round_object_stands_upright_unless_tilted_clearly() -> None:
+    from hapticsim.data.objects import random_superquadric
+    from hapticsim.geometry import rotvec_to_matrix
+
+    ellipsoid = get_body("ellipsoid")
+    tilted = ellipsoid.transformed(rotvec_to_matrix(np.array([0.7, 0.2, 0.0])), np.zeros(3))
+    rough = vision_estimate(tilted, 0)
+    assert "tilted" in rough.vision["method"]
+    # the tilted fit is kept: its longest axis near the truth's (its z): measured 11 degrees
+    longest = rough.shape.rotation[:, int(np.argmax(rough.shape.a))]
+    assert abs(longest @ tilted.rotation[:, 2]) > np.cos(np.radians(20))
+    # a tapered round body, which no ellipsoid fits, stays upright (measured RMS ratio 0.82)
+    tapered = vision_estimate(random_superquadric(9, tapered=True), 0)
+    assert not tapered.has_edges and "upright" in tapered.vision["method"]
+    assert np.allclose(tapered.shape.rotation[:, 2], [0.0, 0.0, 1.0])
