@@ -61,12 +61,12 @@ def test_a_mesh_run_reports_the_method_and_what_the_planner_knew(mesh_run) -> No
 def test_a_superquadric_file_and_random_shapes_explore(tmp_path: Path) -> None:
     get_body("cylinder").to_json(tmp_path / "cyl.json")
     a = explore(str(tmp_path / "cyl.json"), strategy="patch", seed=0, out_dir=tmp_path / "a",
-                progress=False, count=25)  # fmt: skip
+                progress=False, count=20)  # fmt: skip
     assert json.load(open(a["files"]["truth"])) == get_body("cylinder").to_dict()
     b = explore("random_tapered", strategy="patch", seed=5, out_dir=tmp_path / "b",
-                progress=False, count=25)  # fmt: skip
+                progress=False, count=20)  # fmt: skip
     c = explore("random_tapered", strategy="patch", seed=5, out_dir=tmp_path / "c",
-                progress=False, count=25)  # fmt: skip
+                progress=False, count=20)  # fmt: skip
     truth_b = json.load(open(b["files"]["truth"]))
     assert truth_b == json.load(open(c["files"]["truth"]))  # drawn from the seed
     assert truth_b["taper"] != [0.0, 0.0]

@@ -35,18 +35,28 @@ def _estimates(solid: MeshSolid, count: int, seed: int) -> list[Superquadric]:
     return out
 
 
-def test_monte_carlo_agrees_with_exact_booleans() -> None:
-    # Measured on these 12 pairs: largest |MC - booleans| 0.0016 in alpha, beta and IoU (the
-    # issue's bar is 0.01; the MC standard error is <= 0.0016 at 100k samples).
+def _worst_difference(per_mesh: int, samples: int) -> float:
     worst = 0.0
     for k, name in enumerate(EXAMPLE_MESHES):
         solid = EXAMPLE_MESHES[name]()
-        for est in _estimates(solid, 3, k):
-            mc = mt.mesh_volume_overlap(est, solid, rng=k)
+        for est in _estimates(solid, per_mesh, k):
+            mc = mt.mesh_volume_overlap(est, solid, samples=samples, rng=k)
             exact = mt.mesh_boolean_overlap(est, solid)
             for key in ("alpha", "beta", "iou"):
                 worst = max(worst, abs(getattr(mc, key) - getattr(exact, key)))
-    assert worst < 0.006, worst
+    return worst
+
+
+def test_monte_carlo_agrees_with_exact_booleans() -> None:
+    # one estimate per example mesh at 40k samples (standard error <= 0.0025): measured largest
+    # |MC - booleans| 0.0016 in alpha, beta and IoU; the bar is 0.01
+    assert _worst_difference(1, 40_000) < 0.01
+
+
+@pytest.mark.slow
+def test_monte_carlo_agrees_with_exact_booleans_at_the_default_samples() -> None:
+    # 12 pairs at the default 100k samples (standard error <= 0.0016): measured 0.0016
+    assert _worst_difference(3, 100_000) < 0.006
 
 
 def test_a_superquadric_against_its_own_mesh_scores_near_zero() -> None:
@@ -82,10 +92,10 @@ def test_closest_points_are_exact(solid: MeshSolid) -> None:
     pts = np.concatenate([near + gen.normal(0, 0.002, near.shape), gen.uniform(lo, hi, (300, 3))])
     q, face = mt.closest_points(solid, pts)
     tri = np.asarray(solid.triangles)
-    brute = np.array(
-        [np.nanmin(np.linalg.norm(closest_point_on_triangles(tri, np.tile(p, (len(tri), 1)))
-                                  - p, axis=1)) for p in pts]
-    )  # fmt: skip
+    pairs_p = np.repeat(pts, len(tri), axis=0)
+    pairs_t = np.tile(tri, (len(pts), 1, 1))
+    every = np.linalg.norm(closest_point_on_triangles(pairs_t, pairs_p) - pairs_p, axis=1)
+    brute = np.nanmin(every.reshape(len(pts), len(tri)), axis=1)
     assert np.allclose(np.linalg.norm(q - pts, axis=1), brute, atol=1e-12)
     own = np.linalg.norm(closest_point_on_triangles(tri[face], pts) - pts, axis=1)
     assert np.allclose(own, brute, atol=1e-12)  # the face returned holds the closest point
