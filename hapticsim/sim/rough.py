@@ -32,6 +32,7 @@ nearest the world's x (pointing to +x).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -191,12 +192,22 @@ def _surface_triangles(truth: Superquadric | MeshSolid) -> tuple[Array, Array, A
     (its chords, a few 1e-5 m, are far below a camera's depth noise)."""
     if isinstance(truth, MeshSolid):
         return np.asarray(truth.triangles), np.asarray(truth.face_areas), truth.face_normals
+    return _superquadric_triangles(truth)
+
+
+@lru_cache(maxsize=16)
+def _superquadric_triangles(truth: Superquadric) -> tuple[Array, Array, Array]:
+    """:func:`_surface_triangles` of a superquadric, kept for the shapes seen last (episodes
+    come back to the same bodies)."""
     vertices, faces = surface_grid(truth, _CAMERA_MESH_RESOLUTION)
     tri = vertices[faces]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     doubled = np.linalg.norm(cross, axis=1)
     ok = doubled > 0
-    return tri[ok], 0.5 * doubled[ok], cross[ok] / doubled[ok, None]
+    out = (tri[ok], 0.5 * doubled[ok], cross[ok] / doubled[ok, None])
+    for arr in out:
+        arr.setflags(write=False)
+    return out
 
 
 def depth_cloud(
