@@ -9,10 +9,14 @@ but its errors.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
 import tempfile
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
+from contextvars import ContextVar, Token
 from pathlib import Path
 from typing import Any
 
@@ -22,17 +26,22 @@ from hapticsim.errors import InvalidInputError
 def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> Path:
     """Call ``write(file)`` on a temporary sibling of `path` opened in `mode`, then rename it.
 
-    A failure leaves no file (and no temporary) behind; errors become InvalidInputError.
+    A failure leaves no file (and no temporary) behind; errors become InvalidInputError. Inside
+    an :class:`OutputSet` the rename waits for the set to be committed.
     """
     path = check_output_path(path)
     try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     except OSError as exc:
         raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    staging = _OUTPUT_SET.get()
     try:
         with os.fdopen(fd, mode) as fh:
             write(fh)
-        os.replace(tmp, path)
+        if staging is not None:
+            staging._stage(path, Path(tmp))
+        else:
+            os.replace(tmp, path)
     except OSError as exc:
         Path(tmp).unlink(missing_ok=True)
         raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
@@ -40,6 +49,89 @@ def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> P
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+_OUTPUT_SET: ContextVar[OutputSet | None] = ContextVar("hapticsim_output_set", default=None)
+
+
+class OutputSet:
+    """The files of one run, which appear together or not at all.
+
+    Inside ``with OutputSet():`` every :func:`atomic_write` (and so every writer of hapticsim)
+    leaves its file under a temporary name; when the block ends normally they are all renamed
+    into place, with Ctrl-C held back until the last rename, and when it ends in an exception
+    (Ctrl-C included) they are all removed. A run that fails half-way through writing its
+    outputs therefore leaves none of them (files of an earlier run stay as they were).
+
+    :meth:`source` gives where a file written inside the set can be read before the commit.
+    """
+
+    def __init__(self) -> None:
+        self._staged: dict[Path, Path] = {}  # final path -> temporary file
+        self._token: Token[OutputSet | None] | None = None
+
+    def __enter__(self) -> OutputSet:
+        if _OUTPUT_SET.get() is not None:
+            raise RuntimeError("output sets do not nest")
+        self._token = _OUTPUT_SET.set(self)
+        return self
+
+    def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
+        assert self._token is not None
+        _OUTPUT_SET.reset(self._token)
+        if exc_type is None:
+            self._commit()
+        else:
+            self._discard()
+
+    def _stage(self, path: Path, tmp: Path) -> None:
+        key = path.resolve()
+        old = self._staged.pop(key, None)
+        if old is not None:
+            old.unlink(missing_ok=True)
+        self._staged[key] = tmp
+
+    def source(self, path: str | Path) -> Path:
+        """Where the content of `path` is now: its temporary file if staged here, else itself."""
+        return self._staged.get(Path(path).resolve(), Path(path))
+
+    def _discard(self) -> None:
+        for tmp in self._staged.values():
+            tmp.unlink(missing_ok=True)
+        self._staged.clear()
+
+    def _commit(self) -> None:
+        done: list[Path] = []
+        with _sigint_held():
+            try:
+                for final, tmp in self._staged.items():
+                    os.replace(tmp, final)
+                    done.append(final)
+            except OSError as exc:
+                for final in done:  # all or nothing
+                    final.unlink(missing_ok=True)
+                self._discard()
+                raise InvalidInputError(f"cannot write {final}: {exc.strerror or exc}") from exc
+        self._staged.clear()
+
+
+@contextlib.contextmanager
+def _sigint_held() -> Iterator[None]:
+    """Hold back Ctrl-C (SIGINT) during the block and raise it after (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:  # now do what the previous handler would have done
+        if callable(previous):
+            previous(signal.SIGINT, None)  # Python's default raises KeyboardInterrupt
+        elif previous == signal.SIG_DFL:
+            raise KeyboardInterrupt
 
 
 def read_text(path: Path) -> str:

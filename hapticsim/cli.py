@@ -17,6 +17,8 @@ from typing import Any, NoReturn
 from hapticsim.errors import HapticsimError
 
 EXIT_BAD_INPUT = 2
+#: Exit status after Ctrl-C (128 + SIGINT, as a shell reports it).
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -376,20 +378,26 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``hapticsim`` console script; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    args.argv = list(sys.argv[1:] if argv is None else argv)  # recorded by `suite run`
+    """Entry point of the ``hapticsim`` console script; returns the exit status.
+
+    Bad input (any :class:`~hapticsim.errors.HapticsimError`) ends with one line on stderr and
+    status 2; Ctrl-C, wherever it falls (parsing included), with one line and status 130.
+    """
+    args = None
     try:
+        args = build_parser().parse_args(argv)
+        args.argv = list(sys.argv[1:] if argv is None else argv)  # recorded by `suite run`
         return int(args.func(args))
     except HapticsimError as exc:
         message = " ".join(str(exc).split())
-        command = " ".join(filter(None, (args.command, getattr(args, "suite_command", None))))
-        sys.stderr.write(f"hapticsim {command}: error: {message}\n")
+        words = (getattr(args, "command", None), getattr(args, "suite_command", None))
+        command = " ".join(filter(None, ("hapticsim", *words)))
+        sys.stderr.write(f"{command}: error: {message}\n")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        sys.stderr.write("hapticsim: interrupted\n")
-        return 130
+        command = "" if args is None else f" {args.command}"
+        sys.stderr.write(f"hapticsim{command}: interrupted\n")
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim._files import OutputSet
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import MAX_CONTACTS
 from hapticsim.errors import InvalidInputError, SimulationError
@@ -140,13 +141,11 @@ def _explore(
 ) -> dict[str, Any]:  # fmt: skip
     from tqdm import tqdm
 
-    from hapticsim.data.io import Contacts, write_contacts, write_json
     from hapticsim.data.noise import add_noise
     from hapticsim.data.objects import stl_bytes, truth_size
     from hapticsim.experiments.explore_report import (
         exploration_figure_png,
         png_bytes,
-        write_bytes_atomic,
     )
     from hapticsim.fitting import fit
     from hapticsim.fitting.methods import uses_normals
@@ -186,7 +185,7 @@ def _explore(
             raise SimulationError(
                 f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
                 f"reproduce: hapticsim explore --object {spec.source} --strategy {strategy} "
-                f"--seed {seed} --count {count}{_placement_args(spec)}]"
+                f"--seed {seed} --count {count}{_placement_args(spec)}{_hand_args(scene_config)}]"
             ) from exc
         if render and "scene" not in picture:
             from hapticsim.sim.render import render_scene
@@ -252,22 +251,9 @@ def _explore(
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
     extra = {k: a[k] for k in keys}
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
-    files = {
-        "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
-        "truth": (
-            write_bytes_atomic(out / truth_file[0], truth_file[1])
-            if truth_file is not None
-            else write_json(out / "truth.json", truth.to_dict())
-        ),
-        "fit": write_json(out / "fit.json", result.to_dict()),
-        "metrics": write_json(out / "metrics.json", metrics),
-        "report": write_bytes_atomic(out / "report.png", report),
-    }
-    if "scene" in picture:
-        files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
-    if "video" in picture:
-        name = f"exploration.{video_config.format}"
-        files["video"] = write_bytes_atomic(out / name, picture["video"])
+    with OutputSet():  # all files or none, even on Ctrl-C
+        files = _write_outputs(out, points, normals, extra, truth, truth_file, result, metrics,
+                               report, picture, video_config)  # fmt: skip
     return {
         "out_dir": str(out),
         "files": {k: str(v) for k, v in files.items()},
@@ -285,6 +271,42 @@ def _explore(
         "simulation": sim_stats,
         "seconds": time.perf_counter() - start,
     }
+
+
+def _write_outputs(
+    out: Path, points: Any, normals: Any, extra: dict[str, Any], truth: Any, truth_file: Any,
+    result: Any, metrics: dict[str, Any], report: bytes, picture: dict[str, bytes],
+    video_config: Any,
+) -> dict[str, Path]:  # fmt: skip
+    """Write the run's files in `out`; returns them by kind."""
+    from hapticsim.data.io import Contacts, write_contacts, write_json
+    from hapticsim.experiments.explore_report import write_bytes_atomic
+
+    files = {
+        "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
+        "truth": (
+            write_bytes_atomic(out / truth_file[0], truth_file[1])
+            if truth_file is not None
+            else write_json(out / "truth.json", truth.to_dict())
+        ),
+        "fit": write_json(out / "fit.json", result.to_dict()),
+        "metrics": write_json(out / "metrics.json", metrics),
+        "report": write_bytes_atomic(out / "report.png", report),
+    }
+    if "scene" in picture:
+        files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
+    if "video" in picture:
+        name = f"exploration.{video_config.format}"
+        files["video"] = write_bytes_atomic(out / name, picture["video"])
+    return files
+
+
+def _hand_args(scene_config: Any) -> str:
+    """The ``--hand`` option that reproduces the scene's hand ('' for the default hand)."""
+    hand = getattr(scene_config, "hand", None)
+    if hand is None or hand.name == "hapticsim":
+        return ""
+    return f" --hand {hand.source if hand.source is not None else hand.name}"
 
 
 def _placement_args(spec: Any) -> str:

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import os
 import platform
-import shutil
 import time
 from pathlib import Path
 from typing import Any
 
+from hapticsim._files import OutputSet, atomic_write
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments.claims import check_claims
 from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
@@ -73,6 +73,8 @@ def reproduce(
         extra: dict[str, Any] = {} if noises is None else {"noises": tuple(noises)}
         fig5_cfg = Fig5Config(runs=runs, seed=seed, budgets=budgets, noise_budget=budget, **extra)
     out = Path(out_dir)
+    if results is not None and Path(results).is_dir():  # found out now, not after the sweep
+        raise InvalidInputError(f"cannot write {results}: it is a directory")
     out.mkdir(parents=True, exist_ok=True)
 
     start, cpu_start = time.perf_counter(), _cpu_seconds()
@@ -88,6 +90,20 @@ def reproduce(
     done = dict(zip(trials, results_list, strict=True))
     sweep_seconds = time.perf_counter() - start
 
+    with OutputSet() as outputs:  # all files or none, even on Ctrl-C
+        return _write_outputs(
+            outputs, which, out, runs, seed, n_workers, scheduler, trials, fig4_cfg, fig5_cfg,
+            done, start, cpu_start, sweep_seconds, results, figures_dir,
+        )  # fmt: skip
+
+
+def _write_outputs(
+    outputs: OutputSet, which: str, out: Path, runs: int, seed: int, n_workers: int | None,
+    scheduler: str | None, trials: list[Any], fig4_cfg: Any, fig5_cfg: Any, done: dict,
+    start: float, cpu_start: float, sweep_seconds: float, results: str | Path | None,
+    figures_dir: str | Path | None,
+) -> dict[str, Any]:  # fmt: skip
+    """Tables, pictures, claims, the report and ``summary.json``; returns the summary."""
     files: dict[str, Path] = {}
     fig4 = collect_fig4(fig4_cfg, done) if fig4_cfg else None
     fig5 = collect_fig5(fig5_cfg, done) if fig5_cfg else None
@@ -126,7 +142,7 @@ def reproduce(
 
         files["results"] = write_results(
             results, fig4=fig4, fig5=fig5, claims=claims, summary=summary,
-            figures=_copy_figures(files, results, figures_dir),
+            figures=_copy_figures(outputs, files, results, figures_dir),
         )  # fmt: skip
     summary["files"] = {k: str(v) for k, v in files.items()}
     from hapticsim.data.io import write_json
@@ -153,7 +169,10 @@ def _fig4_means(fig4: Fig4Result) -> list[dict[str, Any]]:
 
 
 def _copy_figures(
-    files: dict[str, Path], results: str | Path, figures_dir: str | Path | None
+    outputs: OutputSet,
+    files: dict[str, Path],
+    results: str | Path,
+    figures_dir: str | Path | None,
 ) -> dict[str, Path]:
     """Copy the PNGs next to the report (``docs/figures`` by default); returns their paths."""
     target = Path(figures_dir) if figures_dir else Path(results).parent / "docs" / "figures"
@@ -161,7 +180,7 @@ def _copy_figures(
     copied = {}
     for key in ("fig4_figure", "fig5_figure"):
         if key in files:
+            data = outputs.source(files[key]).read_bytes()  # written, not yet renamed
             dest = target / files[key].name
-            shutil.copyfile(files[key], dest)
-            copied[key] = dest
+            copied[key] = atomic_write(dest, lambda fh, d=data: fh.write(d), "wb")
     return copied

@@ -195,6 +195,10 @@ class Executor(ABC, Generic[T, R]):
 
         try:
             self._run(func, tasks, order, name_of, started, done)
+        except BaseException:
+            if bar is not None:  # a failed run's bar disappears: its error is the one line
+                bar.leave = False
+            raise
         finally:
             if bar is not None:
                 bar.close()
