@@ -188,7 +188,10 @@ def _resolve_model(value: Any, where: str, base: Path, extra: str | None) -> Pat
         if package == "hapticsim":
             path = models_dir() / inner
         else:
-            spec = importlib.util.find_spec(package)
+            try:
+                spec = importlib.util.find_spec(package)
+            except (ImportError, ValueError):  # a broken or half-removed installation
+                spec = None
             if spec is None or not spec.submodule_search_locations:
                 hint = f" (pip install 'hapticsim[{extra}]')" if extra else ""
                 raise _err(
