@@ -51,8 +51,9 @@ Array = NDArray[np.float64]
 #: used to describe true shapes in tests and reports, never by the vision estimate.
 EDGE_EPS: float = 0.5
 #: Fraction of the cloud the largest plane must hold for the object to count as having edges.
-#: Measured on the default camera (docs/objects.md): the paper's ellipsoid 0.03, its box-like
-#: bodies and cylinder 0.26-0.51.
+#: Measured on the default camera (docs/objects.md): the paper's ellipsoid 0.07-0.08 and round
+#: random superquadrics 0.08-0.11; box-like bodies, the cylinder and box-like random shapes
+#: 0.15-0.47.
 EDGE_PLANE_FRACTION: float = 0.15
 #: A round object's ellipsoid may tilt away from upright only when that brings the RMS of its
 #: radial distances below this fraction of the upright one's. Measured (default camera): a
