@@ -108,15 +108,14 @@ def _fit(
     """The estimate of the case's method, or of the plug-in fitter; and what the fit reported."""
     start = time.perf_counter()
     if fitter is None:
-        from hapticsim.fitting import fit
+        from hapticsim.fitting import DEFAULT_BUDGET, fit
 
-        result = fit(
-            points, normals, method=method, budget=None if budget == "default" else budget,
-            rng=rng,
-        )  # fmt: skip
+        evaluations = DEFAULT_BUDGET if budget == "default" else budget
+        result = fit(points, normals, method=method, budget=evaluations, rng=rng)
         timing["fit"] = time.perf_counter() - start
         return result.superquadric, {
-            "fitter": method, "evaluations": result.evaluations, "fit_status": result.status,
+            "fitter": method, "budget": int(evaluations), "evaluations": result.evaluations,
+            "fit_status": result.status,
         }  # fmt: skip
     from hapticsim.errors import InvalidInputError
     from hapticsim.suites.plugins import as_superquadric, load_fitter
@@ -132,7 +131,7 @@ def _fit(
         estimate = as_superquadric(value)
     except InvalidInputError as exc:
         raise _PluginError(str(exc)) from None
-    return estimate, {"fitter": fitter, "evaluations": None, "fit_status": None}
+    return estimate, {"fitter": fitter, "budget": None, "evaluations": None, "fit_status": None}
 
 
 def _quality(
