@@ -14,7 +14,12 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import JIT, NP, residuals_posed
+from hapticsim.geometry._eof_compiled import (
+    JIT,
+    NP,
+    problem_residuals_posed,
+    residual_length,
+)
 
 #: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
 STATUS_BUDGET, STATUS_GENERATIONS, STATUS_TARGET, STATUS_STALL = 0, 1, 2, 3
@@ -263,27 +268,27 @@ def offspring(
 
 @njit(**JIT)
 def _evaluate(
-    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
-    genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, tally: np.ndarray,
-) -> None:  # fmt: skip
-    """EOF [m^2] of each row of genes/rot into `eof`."""
-    count, n = genes.shape[0], points.shape[1]
-    r = np.empty((count, n))
-    residuals_posed(
-        points, normals, with_normals, genes[:, 0:3], genes[:, 3:5], genes[:, 5:7], rot,
-        genes[:, 10:13], lam, tapered, r, tally,
+    problem: tuple, genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, tally: np.ndarray
+) -> None:
+    """Fitness of each row of genes/rot into `eof`: ``sum(r^2) / n`` of the problem's residuals
+    (the EOF [m^2] for the paper's model)."""
+    count, n = genes.shape[0], problem[0].shape[1]
+    m = residual_length(problem)
+    r = np.empty((count, m))
+    problem_residuals_posed(
+        problem, np.ascontiguousarray(genes[:, 0:3]), np.ascontiguousarray(genes[:, 3:5]),
+        np.ascontiguousarray(genes[:, 5:7]), rot, np.ascontiguousarray(genes[:, 10:13]), r, tally,
     )  # fmt: skip
     for k in range(count):
         s = 0.0
-        for i in range(n):
+        for i in range(m):
             s += r[k, i] * r[k, i]
         eof[k] = s / n
 
 
 @njit(**JIT)
 def ga_run(
-    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
-    seeds: np.ndarray, seed_rot: np.ndarray, lower: np.ndarray, upper: np.ndarray, size: float,
+    problem: tuple, seeds: np.ndarray, seed_rot: np.ndarray, lower: np.ndarray, upper: np.ndarray, size: float,
     cap: int, rng: np.random.Generator, population: int, crowding: bool, window: int, elite: int,
     settings: np.ndarray, stall_generations: int, max_generations: int, target_eof: float,
     out_genes: np.ndarray, out_rot: np.ndarray, out_eof: np.ndarray,
@@ -292,6 +297,8 @@ def ga_run(
     """One genetic search (see :func:`hapticsim.fitting.genetic.genetic_search`).
 
     Args:
+        problem: the residuals whose sum of squares is the fitness (see
+            :func:`hapticsim.geometry._eof_compiled.residual_length`).
         seeds: (k, 13) start vectors, clipped; seed_rot: (k, 3, 3) their rotations.
         cap: the most evaluations; rng: the generator of every random choice.
         max_generations: -1 for no limit.
@@ -325,7 +332,7 @@ def ga_run(
     used = 0
     n_hist = 0
     if total > 0:
-        _evaluate(points, normals, with_normals, lam, tapered, genes, rot, eof, tally)
+        _evaluate(problem, genes, rot, eof, tally)
         used = total
     order = np.argsort(eof, kind="mergesort")[:n]
     genes, rot, eof = genes[order], rot[order], eof[order]
@@ -360,10 +367,7 @@ def ga_run(
             rng, genes, rot, eof, children, settings, shrink, size, lower, upper, tables,
             kids[:children], kid_rot[:children],
         )  # fmt: skip
-        _evaluate(
-            points, normals, with_normals, lam, tapered, kids[:children], kid_rot[:children],
-            kid_eof[:children], tally,
-        )  # fmt: skip
+        _evaluate(problem, kids[:children], kid_rot[:children], kid_eof[:children], tally)
         used += children
         if crowding:
             # Restricted tournament replacement: each child meets `window` random individuals

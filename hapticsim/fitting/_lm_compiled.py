@@ -1,9 +1,11 @@
-"""Compiled bounded Levenberg-Marquardt on the EOF residuals (numba), with evaluation counting.
+"""Compiled bounded Levenberg-Marquardt on a residual vector (numba), with evaluation counting.
 
 One implementation serves every least-squares stage of the fitter: LS and nLS, the polish of
 H and nH, and the multi-start steps of the hybrid (seed steps, probes), which run
-:func:`lm_multi` over many starts. The whole loop runs in compiled code: no Python call per
-evaluation.
+:func:`lm_multi` over many starts, and nML's stages, on whichever residual vector the *problem*
+holds (the paper's EOF residuals or the maximum-likelihood ones, see
+:func:`hapticsim.geometry._eof_compiled.residual_length`). The whole loop runs in compiled code:
+no Python call per evaluation.
 
 The method (Marquardt's scaled damping with Nielsen's update of the damping):
 
@@ -30,7 +32,13 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import JIT, NP, jacobian_vector, residuals_vectors
+from hapticsim.geometry._eof_compiled import (
+    JIT,
+    NP,
+    problem_jacobian,
+    problem_residuals,
+    residual_length,
+)
 
 #: Evaluations a Jacobian counts for (forward differences over 13 parameters, SPEC §3).
 JACOBIAN_EVALUATIONS = NP
@@ -101,16 +109,15 @@ def _normal_equations(jac_t: np.ndarray, r: np.ndarray, scale: np.ndarray, a: np
 
 @njit(**JIT)
 def lm_run(
-    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
-    x0: np.ndarray, lower: np.ndarray, upper: np.ndarray, scale: np.ndarray,
+    problem: tuple, x0: np.ndarray, lower: np.ndarray, upper: np.ndarray, scale: np.ndarray,
     max_evaluations: int, max_iterations: int, ftol: float, xtol: float, gtol: float,
     x_out: np.ndarray, tally: np.ndarray,
 ) -> tuple[float, int, int, int]:  # fmt: skip
     """Minimise ``sum(r^2)`` from `x0` (13,) within the box; the best vector into `x_out`.
 
     Args:
-        points, normals, with_normals, lam, tapered: the EOF (see
-            :func:`hapticsim.geometry._eof_compiled.residuals_posed`).
+        problem: the residuals, paper EOF or ML (see
+            :func:`hapticsim.geometry._eof_compiled.residual_length`).
         x0: (13,) start, clipped into [lower, upper].
         lower, upper, scale: (13,) box and typical magnitudes.
         max_evaluations: the most evaluations to use (>= 1 for anything to happen).
@@ -123,7 +130,7 @@ def lm_run(
         not even x0 could be evaluated), evaluations used, one of the ``STATUS_*`` codes and
         the steps tried.
     """
-    n = points.shape[1]
+    n = residual_length(problem)
     x = np.empty(NP)
     for k in range(NP):
         x[k] = min(max(x0[k], lower[k]), upper[k])
@@ -131,7 +138,7 @@ def lm_run(
     if max_evaluations < 1:
         return math.inf, 0, STATUS_BUDGET, 0
     r = np.empty((1, n))
-    residuals_vectors(points, normals, with_normals, x.reshape(1, NP), lam, tapered, r, tally)
+    problem_residuals(problem, x.reshape(1, NP), r, tally)
     used = 1
     cost = 0.0
     for i in range(n):
@@ -140,7 +147,7 @@ def lm_run(
         return cost, used, STATUS_BUDGET, 0
     jac_t = np.empty((NP, n))
     rv = np.empty(n)
-    jacobian_vector(points, normals, with_normals, x, lam, tapered, rv, jac_t, tally)
+    problem_jacobian(problem, x, rv, jac_t, tally)
     used += JACOBIAN_EVALUATIONS
     a = np.empty((NP, NP))
     g = np.empty(NP)
@@ -199,7 +206,7 @@ def lm_run(
         if dnorm <= xtol * (xtol + znorm):
             status = STATUS_CONVERGED
             break
-        residuals_vectors(points, normals, with_normals, trial, lam, tapered, rt, tally)
+        problem_residuals(problem, trial, rt, tally)
         used += 1
         trial_cost = 0.0
         for i in range(n):
@@ -227,7 +234,7 @@ def lm_run(
             if used + JACOBIAN_EVALUATIONS > max_evaluations:
                 status = STATUS_BUDGET
                 break
-            jacobian_vector(points, normals, with_normals, x, lam, tapered, rv, jac_t, tally)
+            problem_jacobian(problem, x, rv, jac_t, tally)
             used += JACOBIAN_EVALUATIONS
             _normal_equations(jac_t, rv, scale, a, g)
             for k in range(NP):
@@ -243,8 +250,7 @@ def lm_run(
 
 @njit(**JIT)
 def lm_multi(
-    points: np.ndarray, normals: np.ndarray, with_normals: bool, lam: float, tapered: bool,
-    starts: np.ndarray, lower: np.ndarray, upper: np.ndarray, scale: np.ndarray,
+    problem: tuple, starts: np.ndarray, lower: np.ndarray, upper: np.ndarray, scale: np.ndarray,
     evaluations_each: int, max_iterations: int, ftol: float, xtol: float, gtol: float,
     x_out: np.ndarray, cost_out: np.ndarray, tally: np.ndarray,
 ) -> int:  # fmt: skip
@@ -255,7 +261,7 @@ def lm_multi(
     total = 0
     for p in range(starts.shape[0]):
         cost, used, _, _ = lm_run(
-            points, normals, with_normals, lam, tapered, starts[p], lower, upper, scale,
+            problem, starts[p], lower, upper, scale,
             evaluations_each, max_iterations, ftol, xtol, gtol, x_out[p], tally,
         )  # fmt: skip
         cost_out[p] = cost

@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import (
     as_generator,
+    finite_array,
     finite_float,
     normals_array,
     physical_points,
@@ -20,7 +21,8 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, seed_vectors
 from hapticsim.fitting.least_squares import least_squares_run
-from hapticsim.fitting.methods import DEFAULT_BUDGET, HYBRID_METHODS, METHODS, uses_normals
+from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, HYBRID_METHODS, uses_normals
+from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult
 from hapticsim.geometry.eof import DISTANCES
@@ -54,15 +56,19 @@ def fit(
     lam: float = DEFAULT_LAMBDA,
     initial: Superquadric | None = None,
     distance: str = DEFAULT_DISTANCE,
+    noise: float | None = None,
+    free: Any | None = None,
+    options: MLOptions | None = None,
 ) -> FitResult:
-    """Fit a superquadric to contact points (and normals) with one of the paper's methods.
+    """Fit a superquadric to contact points (and normals) with the paper's methods or nML.
 
     Args:
         points: (n, 3) float, contact locations [m, world], n >= 13 (one per parameter), finite,
             not all on one line.
         normals: (n, 3) float outward normals (normalised here), needed by nLS and nH; LS and H
             ignore them (they are still checked when given).
-        method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"`` (SPEC §3).
+        method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"`` (SPEC §3), or ``"nML"``, the
+            maximum-likelihood fit for noisy data (:mod:`hapticsim.fitting.ml`; needs normals).
         budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
         rng: seed or generator of the genetic algorithm; the same seed gives the same result,
             bit for bit.
@@ -72,7 +78,14 @@ def fit(
         distance: how the search measures the contact distance D1: ``"untapered"`` is SPEC §2
             exactly; ``"tapered"`` measures the same radial distance on the tapered solid (see
             :func:`hapticsim.geometry.eof.contact_residuals`). The reported ``eof`` is always
-            the SPEC §2 EOF of the estimate.
+            the SPEC §2 EOF of the estimate. nML measures orthogonal distances instead and
+            ignores it (and `lam`).
+        noise: nML only: the known relative sensor noise sigma_N (SPEC §5), finite and >= 0;
+            None (default) estimates it from the residuals (reported in the result's ``noise``).
+        free: nML only: (f, 3) float free-space points [m, world], where the fingertip has
+            been (its centre at the contacts, its approach path), which must lie outside the
+            solid; None for none.
+        options: nML only: its settings (default :class:`~hapticsim.fitting.ml.MLOptions`).
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -80,8 +93,10 @@ def fit(
     Raises:
         InvalidInputError: any argument out of its domain; the message names it.
     """
-    if not isinstance(method, str) or method not in METHODS:
-        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
+    if not isinstance(method, str) or method not in FIT_METHODS:
+        raise InvalidInputError(
+            f"`method` must be one of {', '.join(FIT_METHODS)}, got {method!r}"
+        )
     pts = physical_points(points, "points", min_count=N_PARAMS)
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:
@@ -94,19 +109,34 @@ def fit(
     warm = None if initial is None else superquadric_arg(initial, "initial")
     if distance not in DISTANCES:
         raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
+    ml = method == "nML"
+    if not ml and (noise is not None or free is not None or options is not None):
+        raise InvalidInputError(
+            f"`noise`, `free` and `options` are for method nML only, got method {method}"
+        )
+    sigma = None if noise is None else finite_float(noise, "noise", low=0.0)
+    free_pts = None if free is None else finite_array(free, "free", (None, 3))
+    if options is not None and not isinstance(options, MLOptions):
+        raise InvalidInputError(f"`options` must be MLOptions, got {type(options).__name__}")
     _check_spread(pts)
-    spec = distance == "untapered"
+    spec = distance == "untapered" and not ml
     if not spec and n_evals < 2:
         raise InvalidInputError(f'`budget` must be >= 2 with distance="{distance}", got {n_evals}')
 
     start = time.perf_counter()
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
-    objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
-    if method in HYBRID_METHODS:
+    run = None
+    if ml:
+        objective = ml_objective(pts, data_normals, n_evals - 1, sigma, free_pts, options)
+        run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, sigma, options)
+        status = run.status
+    elif method in HYBRID_METHODS:
+        objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
         seeds = seed_vectors(pts, objective.normals, warm)
         _, status = hybrid_search(objective, seeds, gen, HybridOptions())
     else:
+        objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
         x0 = (warm if warm is not None else paper_initial(pts)).to_vector()
         status = least_squares_run(objective, x0).status
     best = objective.best_vector
@@ -124,6 +154,7 @@ def fit(
         history=objective.history(),
         status=status,
         message=_MESSAGES[status],
+        noise=None if run is None else run.noise,
     )
 
 

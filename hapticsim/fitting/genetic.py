@@ -224,7 +224,7 @@ def genetic_search(
     )  # fmt: skip
     c = objective.contacts
     count, generations, used, status, n_hist = _ga.ga_run(
-        c.points, c.normals, c.with_normals, objective.lam, objective.tapered, genes, rot,
+        objective.problem, genes, rot,
         bounds.lower, bounds.upper, bounds.size, cap, rng, n,
         opt.replacement == "crowding", opt.window, opt.elite, settings, opt.stall_generations,
         -1 if opt.max_generations is None else opt.max_generations, opt.target_eof,

@@ -69,8 +69,7 @@ _MESSAGES = {
 
 
 def _args(objective: Objective) -> tuple:
-    c = objective.contacts
-    return (c.points, c.normals, c.with_normals, objective.lam, objective.tapered)
+    return (objective.problem,)
 
 
 def _bounds(objective: Objective) -> tuple[Array, Array, Array]:

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
+from hapticsim.geometry import _eof_compiled as kernel
 from hapticsim.geometry.eof import ContactSet, check_distance
 from hapticsim.geometry.rotations import matrix_to_rotvec
 from hapticsim.geometry.superquadric import (
@@ -91,6 +92,10 @@ class Objective:
         budget: the most evaluations allowed, >= 1.
         distance: how the contact distance D1 is measured, ``"untapered"`` (SPEC §2) or
             ``"tapered"`` (see :func:`hapticsim.geometry.eof.contact_residuals`).
+        settings: None for the paper's EOF; else the (8,) settings of the maximum-likelihood
+            residuals of nML (:class:`hapticsim.fitting.likelihood.Likelihood`), whose
+            ``sum(r^2) / n`` then takes the place of the EOF everywhere below.
+        free: (f, 3) float free-space points [m, world] of the ML residuals, or None.
 
     Attributes:
         evaluations: evaluations used so far.
@@ -105,6 +110,8 @@ class Objective:
         lam: float,
         budget: int,
         distance: str = "untapered",
+        settings: Array | None = None,
+        free: Array | None = None,
     ) -> None:
         self.points = points_world
         self.distance = distance
@@ -115,6 +122,8 @@ class Objective:
         self.count = int(points_world.shape[0])
         self.bounds = Bounds.from_points(points_world)
         self.contacts = ContactSet.from_arrays(points_world, normals_world)
+        self.problem = self.contacts.problem(self.lam, self.tapered, settings, free)
+        self.ml = settings is not None
         self.evaluations = 0
         self.best_vector: Array | None = None
         self.best_eof = np.inf
@@ -132,7 +141,10 @@ class Objective:
         return self.normals is not None
 
     def residuals(self, vectors: Array, rotations: Array | None = None) -> Array:
-        """Residuals r (P, n) [m] of P vectors (P, 13); ``sum(r**2, -1) / n`` is the EOF.
+        """Residuals r (P, m) of P vectors (P, 13); ``sum(r**2, -1) / n`` is the EOF.
+
+        m = n [m] for the paper's EOF; for the ML residuals m is their vector length
+        (dimensionless).
 
         Counts P evaluations and updates the best vector.
 
@@ -147,7 +159,9 @@ class Objective:
         v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
         if v.shape[0] > self.remaining:
             raise BudgetExhausted
-        if rotations is None:
+        if self.ml:
+            r = self._ml_residuals(v, rotations)
+        elif rotations is None:
             r = self.contacts.residuals(v, self.lam, self.tapered)
         else:
             r = self.contacts.residuals_posed(v, rotations, self.lam, self.tapered)
@@ -160,6 +174,26 @@ class Objective:
         else:
             self.record(len(eof), v, eof)
         return r
+
+    def _ml_residuals(self, v: Array, rotations: Array | None) -> Array:
+        if rotations is None:
+            return self.contacts.problem_residuals(self.problem, v)
+        rot = np.ascontiguousarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
+        out = np.empty((v.shape[0], kernel.residual_length(self.problem)))
+        kernel.problem_residuals_posed(
+            self.problem, np.ascontiguousarray(v[:, SLICE_A]),
+            np.ascontiguousarray(v[:, SLICE_EPS]), np.ascontiguousarray(v[:, SLICE_TAPER]), rot,
+            np.ascontiguousarray(v[:, SLICE_CENTER]), out, self.contacts.tally,
+        )  # fmt: skip
+        return out
+
+    def reweight(self, settings: Array) -> None:
+        """Replace the ML settings (nML re-estimates the noise between stages) and forget the
+        best vector, whose value was in the old weights; counting and history go on."""
+        if not self.ml:
+            raise ValueError("reweight needs an objective with ML settings")
+        self.problem[6][:] = np.asarray(settings, dtype=np.float64)
+        self.best_vector, self.best_eof = None, np.inf
 
     def record(
         self,

@@ -32,6 +32,8 @@ class FitResult:
             met its tolerances), ``"budget"`` (evaluations used up), or the genetic algorithm's
             ``"stall"``, ``"generations"``, ``"target"`` when nothing was left to polish.
         message: a sentence on the same.
+        noise: nML only: the relative noise level sigma_N its weights used (given, or estimated
+            from the residuals); None for the paper's methods.
     """
 
     superquadric: Superquadric
@@ -42,6 +44,7 @@ class FitResult:
     history: tuple[NDArray[np.int64], NDArray[np.float64]]
     status: str
     message: str = ""
+    noise: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.superquadric, Superquadric):
@@ -65,7 +68,9 @@ class FitResult:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``, and
-        ``status`` and ``message`` (the history is left out: see :attr:`history`)."""
+        ``status`` and ``message``, and ``noise`` for nML (the history is left out: see
+        :attr:`history`)."""
+        extra = {} if self.noise is None else {"noise": float(self.noise)}
         return {
             "superquadric": self.superquadric.to_dict(),
             "method": self.method,
@@ -74,4 +79,5 @@ class FitResult:
             "seconds": self.seconds,
             "status": self.status,
             "message": self.message,
+            **extra,
         }

@@ -237,22 +237,16 @@ def contact_residual(
 
 
 @njit(**_INLINE)
-def contact_residual_gradient(
-    px: float, py: float, pz: float, mx: float, my: float, mz: float,
-    a1: float, a2: float, a3: float, e1: float, e2: float, tx: float, ty: float,
-    lam23: float, with_normals: bool, tapered: bool,
-) -> tuple[float, ...]:  # fmt: skip
-    """:func:`contact_residual` and its derivatives, by reverse-mode differentiation.
+def _shape_forward(
+    px: float, py: float, pz: float, a1: float, a2: float, a3: float, e1: float, e2: float,
+    tx: float, ty: float,
+) -> tuple:  # fmt: skip
+    """The forward pass shared by the gradients: untaper, log F with its shares, and s.
 
-    Args:
-        lam23: ``2 lambda / 3``; the normal term's weight is ``lam23 (a1 + a2 + a3)``.
-
-    Returns:
-        14 floats: the residual r, then dr/d(px, py, pz), dr/d(mx, my, mz),
-        dr/d(a1, a2, a3), dr/d(eps1, eps2), dr/d(tx, ty). Where r has a kink (|D1| at the
-        surface, a coordinate exactly 0) the derivative of the side with sign 0 is taken.
+    Returns the intermediates :func:`_shape_backward` and :func:`_normal_forward` need, in the
+    order ``(ia1, ia2, ia3, ta, tb, cx, cy, fx, fy, xs, ys, qu, qv, qw, lu, lv, lw, k2, k1,
+    ratio, log_g, phu, phv, log_f, psg, psw, s)``.
     """
-    # ---- forward (as contact_residual, keeping the intermediates)
     ia1, ia2, ia3 = 1.0 / a1, 1.0 / a2, 1.0 / a3
     ta, tb = tx * ia3, ty * ia3
     fxr, fyr = 1.0 + ta * pz, 1.0 + tb * pz
@@ -267,79 +261,69 @@ def contact_residual_gradient(
     l1, l2 = log_g * ratio, lw * k1
     log_f, psg, psw = _logaddexp_shares(l1, l2)
     s = exp_(log_f * (-0.5 * e1))
-    b = pz * (1.0 + s)
-    bx, by = b * ta + 1.0, b * tb + 1.0
-    if tapered:
-        qx, qy = bx * xs, by * ys
-    else:
-        qx, qy = xs, ys
-    rho = math.sqrt(qx * qx + qy * qy + pz * pz)
-    sm1 = s - 1.0
-    d1 = abs(sm1) * rho
+    return (
+        ia1, ia2, ia3, ta, tb, cx, cy, fx, fy, xs, ys, qu, qv, qw, lu, lv, lw, k2, k1, ratio,
+        log_g, phu, phv, log_f, psg, psw, s,
+    )  # fmt: skip
 
-    # ---- reverse: adjoints (g_ = dr/d...) in the opposite order
-    g_ta = g_tb = g_fx = g_fy = g_xs = g_ys = g_pz = g_px = g_py = 0.0
-    g_a1 = g_a2 = g_a3 = g_e1 = g_e2 = 0.0
-    g_phu = g_phv = g_psg = g_psw = 0.0
-    g_mx = g_my = g_mz = 0.0
-    r = d1
-    if with_normals:
-        hu, hv, hw = phu * psg, phv * psg, psw
-        nx = hu / px if px != 0.0 else 0.0
-        ny = hv / py if py != 0.0 else 0.0
-        nz0 = hw / pz if pz != 0.0 else 0.0
-        qa, qb = ta * hu / fx, tb * hv / fy
-        nz = nz0 - qa - qb
-        lraw = math.sqrt(nx * nx + ny * ny + nz * nz)
-        length = lraw + 1e-300
-        dot = (nx * mx + ny * my + nz * mz) / length
-        d2 = abs(1.0 - dot)
-        wlam = lam23 * (a1 + a2 + a3)
-        r = d1 + wlam * d2
-        g_a1 = g_a2 = g_a3 = lam23 * d2
-        g_dot = -_sign(1.0 - dot) * wlam
-        g_mn = g_dot / length
-        g_len = -g_dot * dot / length
-        g_mx, g_my, g_mz = g_mn * nx, g_mn * ny, g_mn * nz
-        il = g_len / lraw if lraw > 0.0 else 0.0
-        g_nx, g_ny, g_nz = g_mn * mx + il * nx, g_mn * my + il * ny, g_mn * mz + il * nz
-        # nz = nz0 - ta hu / fx - tb hv / fy
-        g_ta = -g_nz * hu / fx
-        g_tb = -g_nz * hv / fy
-        g_hu = -g_nz * ta / fx
-        g_hv = -g_nz * tb / fy
-        g_fx = g_nz * qa / fx
-        g_fy = g_nz * qb / fy
-        # nx = hu / px, ny = hv / py, nz0 = hw / pz (0 on the planes)
-        nzx, nzy, nzz = px != 0.0, py != 0.0, pz != 0.0
-        g_hu += g_nx / px if nzx else 0.0
-        g_px = -g_nx * nx / px if nzx else 0.0
-        g_hv += g_ny / py if nzy else 0.0
-        g_py = -g_ny * ny / py if nzy else 0.0
-        g_hw = g_nz / pz if nzz else 0.0
-        g_pz = -g_nz * nz0 / pz if nzz else 0.0
-        g_phu, g_phv = g_hu * psg, g_hv * psg
-        g_psg = g_hu * phu + g_hv * phv
-        g_psw = g_hw
-    # d1 = |s - 1| rho
-    g_s = _sign(sm1) * rho
-    g_rho = abs(sm1)
-    ir_ = g_rho / rho if rho > 0.0 else 0.0
-    g_qx, g_qy = ir_ * qx, ir_ * qy
-    g_pz += ir_ * pz
-    if tapered:
-        # qx = bx xs, bx = 1 + ta b, b = pz (1 + s)
-        g_xs += g_qx * bx
-        g_ys += g_qy * by
-        g_bx, g_by = g_qx * xs, g_qy * ys
-        g_ta += g_bx * b
-        g_tb += g_by * b
-        g_b = g_bx * ta + g_by * tb
-        g_pz += g_b * (1.0 + s)
-        g_s += g_b * pz
-    else:
-        g_xs += g_qx
-        g_ys += g_qy
+
+@njit(**_INLINE)
+def _normal_forward(
+    px: float, py: float, pz: float, ta: float, tb: float, fx: float, fy: float,
+    phu: float, phv: float, psg: float, psw: float,
+) -> tuple[float, float, float, float, float, float, float, float, float]:  # fmt: skip
+    """The unnormalised model normal ``n = grad_p log G`` (module docstring) and its parts:
+    ``(hu, hv, hw, nx, ny, nz0, qa, qb, nz)``."""
+    hu, hv, hw = phu * psg, phv * psg, psw
+    nx = hu / px if px != 0.0 else 0.0
+    ny = hv / py if py != 0.0 else 0.0
+    nz0 = hw / pz if pz != 0.0 else 0.0
+    qa, qb = ta * hu / fx, tb * hv / fy
+    nz = nz0 - qa - qb
+    return hu, hv, hw, nx, ny, nz0, qa, qb, nz
+
+
+@njit(**_INLINE)
+def _normal_backward(
+    g_nx: float, g_ny: float, g_nz: float, px: float, py: float, pz: float, ta: float,
+    tb: float, fx: float, fy: float, phu: float, phv: float, psg: float, hu: float, hv: float,
+    nx: float, ny: float, nz0: float, qa: float, qb: float,
+) -> tuple[float, float, float, float, float, float, float, float, float, float, float]:  # fmt: skip
+    """Adjoints of :func:`_normal_forward` from those of n: ``(g_ta, g_tb, g_fx, g_fy, g_px,
+    g_py, g_pz, g_phu, g_phv, g_psg, g_psw)``."""
+    # nz = nz0 - ta hu / fx - tb hv / fy
+    g_ta = -g_nz * hu / fx
+    g_tb = -g_nz * hv / fy
+    g_hu = -g_nz * ta / fx
+    g_hv = -g_nz * tb / fy
+    g_fx = g_nz * qa / fx
+    g_fy = g_nz * qb / fy
+    # nx = hu / px, ny = hv / py, nz0 = hw / pz (0 on the planes)
+    nzx, nzy, nzz = px != 0.0, py != 0.0, pz != 0.0
+    g_hu += g_nx / px if nzx else 0.0
+    g_px = -g_nx * nx / px if nzx else 0.0
+    g_hv += g_ny / py if nzy else 0.0
+    g_py = -g_ny * ny / py if nzy else 0.0
+    g_hw = g_nz / pz if nzz else 0.0
+    g_pz = -g_nz * nz0 / pz if nzz else 0.0
+    g_phu, g_phv = g_hu * psg, g_hv * psg
+    g_psg = g_hu * phu + g_hv * phv
+    g_psw = g_hw
+    return g_ta, g_tb, g_fx, g_fy, g_px, g_py, g_pz, g_phu, g_phv, g_psg, g_psw
+
+
+@njit(**_INLINE)
+def _shape_backward(
+    g_s: float, g_phu: float, g_phv: float, g_psg: float, g_psw: float,
+    g_xs: float, g_ys: float, g_pz: float, g_px: float, g_py: float, g_fx: float, g_fy: float,
+    g_ta: float, g_tb: float, g_a1: float, g_a2: float, g_a3: float, g_e1: float, g_e2: float,
+    fw: tuple, px: float, py: float, pz: float, tx: float, ty: float, e1: float, e2: float,
+) -> tuple[float, float, float, float, float, float, float, float, float, float]:  # fmt: skip
+    """Reverse pass of :func:`_shape_forward` (`fw` its result): from the adjoints of s, the
+    shares and the partial adjoints accumulated so far to ``dr/d(px, py, pz, a1, a2, a3, eps1,
+    eps2, tx, ty)``."""
+    (ia1, ia2, ia3, ta, tb, cx, cy, fx, fy, xs, ys, qu, qv, qw, lu, lv, lw, k2, k1, ratio,
+     log_g, phu, phv, log_f, psg, psw, s) = fw  # fmt: skip
     # s = exp(-eps1 log F / 2)
     g_z = g_s * s
     g_e1 += -0.5 * log_f * g_z
@@ -385,8 +369,296 @@ def contact_residual_gradient(
     g_tx, g_ty = g_ta * ia3, g_tb * ia3
     g_ia3 += g_ta * tx + g_tb * ty
     g_a3 -= g_ia3 * ia3 * ia3
+    return g_px, g_py, g_pz, g_a1, g_a2, g_a3, g_e1, g_e2, g_tx, g_ty
+
+
+@njit(**_INLINE)
+def contact_residual_gradient(
+    px: float, py: float, pz: float, mx: float, my: float, mz: float,
+    a1: float, a2: float, a3: float, e1: float, e2: float, tx: float, ty: float,
+    lam23: float, with_normals: bool, tapered: bool,
+) -> tuple[float, ...]:  # fmt: skip
+    """:func:`contact_residual` and its derivatives, by reverse-mode differentiation.
+
+    Args:
+        lam23: ``2 lambda / 3``; the normal term's weight is ``lam23 (a1 + a2 + a3)``.
+
+    Returns:
+        14 floats: the residual r, then dr/d(px, py, pz), dr/d(mx, my, mz),
+        dr/d(a1, a2, a3), dr/d(eps1, eps2), dr/d(tx, ty). Where r has a kink (|D1| at the
+        surface, a coordinate exactly 0) the derivative of the side with sign 0 is taken.
+    """
+    # ---- forward (as contact_residual, keeping the intermediates)
+    fw = _shape_forward(px, py, pz, a1, a2, a3, e1, e2, tx, ty)
+    ta, tb, fx, fy, xs, ys = fw[3], fw[4], fw[7], fw[8], fw[9], fw[10]
+    phu, phv, psg, psw, s = fw[21], fw[22], fw[24], fw[25], fw[26]
+    b = pz * (1.0 + s)
+    bx, by = b * ta + 1.0, b * tb + 1.0
+    if tapered:
+        qx, qy = bx * xs, by * ys
+    else:
+        qx, qy = xs, ys
+    rho = math.sqrt(qx * qx + qy * qy + pz * pz)
+    sm1 = s - 1.0
+    d1 = abs(sm1) * rho
+
+    # ---- reverse: adjoints (g_ = dr/d...) in the opposite order
+    g_ta = g_tb = g_fx = g_fy = g_xs = g_ys = g_pz = g_px = g_py = 0.0
+    g_a1 = g_a2 = g_a3 = 0.0
+    g_phu = g_phv = g_psg = g_psw = 0.0
+    g_mx = g_my = g_mz = 0.0
+    r = d1
+    if with_normals:
+        hu, hv, hw, nx, ny, nz0, qa, qb, nz = _normal_forward(
+            px, py, pz, ta, tb, fx, fy, phu, phv, psg, psw
+        )
+        lraw = math.sqrt(nx * nx + ny * ny + nz * nz)
+        length = lraw + 1e-300
+        dot = (nx * mx + ny * my + nz * mz) / length
+        d2 = abs(1.0 - dot)
+        wlam = lam23 * (a1 + a2 + a3)
+        r = d1 + wlam * d2
+        g_a1 = g_a2 = g_a3 = lam23 * d2
+        g_dot = -_sign(1.0 - dot) * wlam
+        g_mn = g_dot / length
+        g_len = -g_dot * dot / length
+        g_mx, g_my, g_mz = g_mn * nx, g_mn * ny, g_mn * nz
+        il = g_len / lraw if lraw > 0.0 else 0.0
+        g_nx, g_ny, g_nz = g_mn * mx + il * nx, g_mn * my + il * ny, g_mn * mz + il * nz
+        (g_ta, g_tb, g_fx, g_fy, g_px, g_py, g_pz, g_phu, g_phv, g_psg, g_psw) = _normal_backward(
+            g_nx, g_ny, g_nz, px, py, pz, ta, tb, fx, fy, phu, phv, psg, hu, hv, nx, ny, nz0,
+            qa, qb,
+        )  # fmt: skip
+    # d1 = |s - 1| rho
+    g_s = _sign(sm1) * rho
+    g_rho = abs(sm1)
+    ir_ = g_rho / rho if rho > 0.0 else 0.0
+    g_qx, g_qy = ir_ * qx, ir_ * qy
+    g_pz += ir_ * pz
+    if tapered:
+        # qx = bx xs, bx = 1 + ta b, b = pz (1 + s)
+        g_xs += g_qx * bx
+        g_ys += g_qy * by
+        g_bx, g_by = g_qx * xs, g_qy * ys
+        g_ta += g_bx * b
+        g_tb += g_by * b
+        g_b = g_bx * ta + g_by * tb
+        g_pz += g_b * (1.0 + s)
+        g_s += g_b * pz
+    else:
+        g_xs += g_qx
+        g_ys += g_qy
+    (g_px, g_py, g_pz, g_a1, g_a2, g_a3, g_e1, g_e2, g_tx, g_ty) = _shape_backward(
+        g_s, g_phu, g_phv, g_psg, g_psw, g_xs, g_ys, g_pz, g_px, g_py, g_fx, g_fy, g_ta, g_tb,
+        g_a1, g_a2, g_a3, 0.0, 0.0, fw, px, py, pz, tx, ty, e1, e2,
+    )  # fmt: skip
     return (
         r, g_px, g_py, g_pz, g_mx, g_my, g_mz, g_a1, g_a2, g_a3, g_e1, g_e2, g_tx, g_ty
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------- ML residuals
+#: Layout of the settings array of the maximum-likelihood residuals (:func:`ml_residuals_posed`).
+#: Point weight 1/sigma_p [1/m]; normal weight 1/sigma_n; robust threshold c on the normalised
+#: norm of a contact's residual (<= 0: plain squares); taper prior weight 1/tau_t; eps prior
+#: centre and weight 1/tau_e; free-space weight [1/m] and margin [m].
+ML_POINT_WEIGHT, ML_NORMAL_WEIGHT, ML_ROBUST = 0, 1, 2
+ML_TAPER_WEIGHT, ML_EPS_CENTER, ML_EPS_WEIGHT = 3, 4, 5
+ML_FREE_WEIGHT, ML_FREE_MARGIN = 6, 7
+ML_SETTINGS = 8
+#: Prior residuals appended after the contacts: tx, ty, eps1, eps2.
+ML_PRIORS = 4
+
+
+@njit(**_INLINE)
+def ml_contact(
+    px: float, py: float, pz: float, mx: float, my: float, mz: float,
+    a1: float, a2: float, a3: float, e1: float, e2: float, tx: float, ty: float,
+) -> tuple[float, float, float, float]:  # fmt: skip
+    """``(d, e_x, e_y, e_z)`` of one contact: the first-order signed distance
+    ``d = (1 - s) / |n|`` [m] (positive outside) and ``e = n / |n| - m``, body frame."""
+    fw = _shape_forward(px, py, pz, a1, a2, a3, e1, e2, tx, ty)
+    nf = _normal_forward(px, py, pz, fw[3], fw[4], fw[7], fw[8], fw[21], fw[22], fw[24], fw[25])
+    nx, ny, nz = nf[3], nf[4], nf[8]
+    il = 1.0 / (math.sqrt(nx * nx + ny * ny + nz * nz) + 1e-300)
+    return (1.0 - fw[26]) * il, nx * il - mx, ny * il - my, nz * il - mz
+
+
+@njit(**_INLINE)
+def _backward_sn(
+    g_s: float, g_nx: float, g_ny: float, g_nz: float, fw: tuple, nf: tuple,
+    px: float, py: float, pz: float, tx: float, ty: float, e1: float, e2: float,
+) -> tuple[float, float, float, float, float, float, float, float, float, float]:  # fmt: skip
+    """Gradient ``d/d(px, py, pz, a1, a2, a3, eps1, eps2, tx, ty)`` of ``g_s s + g_n . n``."""
+    hu, hv, _, nx, ny, nz0, qa, qb, _ = nf
+    (g_ta, g_tb, g_fx, g_fy, g_px, g_py, g_pz, g_phu, g_phv, g_psg, g_psw) = _normal_backward(
+        g_nx, g_ny, g_nz, px, py, pz, fw[3], fw[4], fw[7], fw[8], fw[21], fw[22], fw[24],
+        hu, hv, nx, ny, nz0, qa, qb,
+    )  # fmt: skip
+    return _shape_backward(
+        g_s, g_phu, g_phv, g_psg, g_psw, 0.0, 0.0, g_pz, g_px, g_py, g_fx, g_fy, g_ta, g_tb,
+        0.0, 0.0, 0.0, 0.0, 0.0, fw, px, py, pz, tx, ty, e1, e2,
+    )  # fmt: skip
+
+
+@njit(**_INLINE)
+def ml_contact_gradient(
+    px: float, py: float, pz: float, mx: float, my: float, mz: float,
+    a1: float, a2: float, a3: float, e1: float, e2: float, tx: float, ty: float,
+    with_normals: bool,
+) -> tuple:  # fmt: skip
+    """:func:`ml_contact` and its derivatives (reverse mode, one pass per output).
+
+    Returns:
+        ``(values, g_d, g_ex, g_ey, g_ez)``: the 4 values, then for each the 10 derivatives
+        with respect to (px, py, pz, a1, a2, a3, eps1, eps2, tx, ty); ``de_k/dm_k = -1``
+        (not returned). Without normals the e entries are zero.
+    """
+    fw = _shape_forward(px, py, pz, a1, a2, a3, e1, e2, tx, ty)
+    nf = _normal_forward(px, py, pz, fw[3], fw[4], fw[7], fw[8], fw[21], fw[22], fw[24], fw[25])
+    nx, ny, nz = nf[3], nf[4], nf[8]
+    il = 1.0 / (math.sqrt(nx * nx + ny * ny + nz * nz) + 1e-300)
+    ux, uy, uz = nx * il, ny * il, nz * il
+    d = (1.0 - fw[26]) * il
+    # d = (1 - s) / |n|: dd/ds = -1/|n|, dd/dn = -d u / |n|
+    gd = _backward_sn(
+        -il, -d * ux * il, -d * uy * il, -d * uz * il, fw, nf, px, py, pz, tx, ty, e1, e2
+    )
+    zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    if not with_normals:
+        return (d, 0.0, 0.0, 0.0), gd, zero, zero, zero
+    # e_k = u_k - m_k: de_k/dn = (delta_k - u_k u) / |n|
+    gx = _backward_sn(
+        0.0, (1.0 - ux * ux) * il, -ux * uy * il, -ux * uz * il, fw, nf, px, py, pz, tx, ty,
+        e1, e2,
+    )  # fmt: skip
+    gy = _backward_sn(
+        0.0, -uy * ux * il, (1.0 - uy * uy) * il, -uy * uz * il, fw, nf, px, py, pz, tx, ty,
+        e1, e2,
+    )  # fmt: skip
+    gz = _backward_sn(
+        0.0, -uz * ux * il, -uz * uy * il, (1.0 - uz * uz) * il, fw, nf, px, py, pz, tx, ty,
+        e1, e2,
+    )  # fmt: skip
+    return (d, ux - mx, uy - my, uz - mz), gd, gx, gy, gz
+
+
+@njit(**_INLINE)
+def robust_weight(z: float, c: float) -> tuple[float, float]:
+    """``(w, dw/dz)`` of the pseudo-Huber loss on a squared norm z: ``w^2 z = rho(z)``.
+
+    ``rho(z) = 2 c^2 (sqrt(1 + z / c^2) - 1)``: z for small z, ``2 c sqrt(z)`` for large, so
+    ``w = sqrt(2 / (1 + q))``, ``q = sqrt(1 + z / c^2)``. ``c <= 0`` gives ``(1, 0)``.
+    """
+    off = c <= 0.0
+    ic2 = 0.0 if off else 1.0 / (c * c)
+    q = math.sqrt(1.0 + z * ic2)
+    w = math.sqrt(2.0 / (1.0 + q))
+    dw2 = -1.0 / (q * (1.0 + q) * (1.0 + q)) * ic2
+    return w, 0.5 * dw2 / w
+
+
+@njit(**JIT)
+def ml_residual_count(n: int, with_normals: bool, n_free: int) -> int:
+    """Length of the ML residual vector: 4 (1 without normals) per contact, the priors, one per
+    free-space point."""
+    return (4 if with_normals else 1) * n + ML_PRIORS + n_free
+
+
+@njit(**JIT)
+def ml_residuals_posed(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool,
+    a: np.ndarray, eps: np.ndarray, taper: np.ndarray, rot: np.ndarray, center: np.ndarray,
+    settings: np.ndarray, free: np.ndarray, out: np.ndarray, tally: np.ndarray,
+) -> None:  # fmt: skip
+    """Maximum-likelihood residual vectors (P, m) into `out` for P posed bodies.
+
+    Laid out in blocks of n (all distances, then the three normal components; without normals
+    only the distances), then the priors, then the free space; per contact i:
+
+    - ``w_i (d_i / sigma_p, e_i / sigma_n)`` with d the first-order signed distance
+      ``(1 - s) / |grad log G|`` [m] and ``e = n'/|n'| - n`` (model unit normal minus measured);
+      ``w_i`` the pseudo-Huber factor of the normalised squared norm (:func:`robust_weight`);
+    - ``tx / tau_t``, ``ty / tau_t``, ``(eps_k - eps_0) / tau_e``;
+    - per free-space point q: ``max(0, margin - d(q)) / sigma_p``, zero outside the solid.
+
+    Args:
+        points, normals, with_normals, a, eps, taper, rot, center: as :func:`residuals_posed`.
+        settings: (:data:`ML_SETTINGS`,) float, see the ``ML_*`` indices.
+        free: (3, f) float, free-space points [m, world] (f may be 0).
+        out: (P, :func:`ml_residual_count`) float.
+        tally: (1,) int64, incremented by P evaluations.
+    """
+    tally[0] += a.shape[0]
+    n, nf = points.shape[1], free.shape[1]
+    k = 4 if with_normals else 1
+    wp, wn, c = settings[ML_POINT_WEIGHT], settings[ML_NORMAL_WEIGHT], settings[ML_ROBUST]
+    wt, e0, we = settings[ML_TAPER_WEIGHT], settings[ML_EPS_CENTER], settings[ML_EPS_WEIGHT]
+    wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
+    px_w, py_w, pz_w = points[0], points[1], points[2]
+    nx_w, ny_w, nz_w = normals[0], normals[1], normals[2]
+    for b in range(a.shape[0]):
+        a1, a2, a3 = a[b, 0], a[b, 1], a[b, 2]
+        e1, e2 = eps[b, 0], eps[b, 1]
+        tx, ty = taper[b, 0], taper[b, 1]
+        c0, c1, c2 = center[b, 0], center[b, 1], center[b, 2]
+        r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
+        r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
+        r20, r21, r22 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
+        row = out[b]
+        if with_normals:
+            o_d, o_x, o_y, o_z = row[0:n], row[n : 2 * n], row[2 * n : 3 * n], row[3 * n : 4 * n]
+            for i in range(n):
+                d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
+                bx = r00 * d0 + r10 * d1 + r20 * d2
+                by = r01 * d0 + r11 * d1 + r21 * d2
+                bz = r02 * d0 + r12 * d1 + r22 * d2
+                m0, m1, m2 = nx_w[i], ny_w[i], nz_w[i]
+                mx = r00 * m0 + r10 * m1 + r20 * m2
+                my = r01 * m0 + r11 * m1 + r21 * m2
+                mz = r02 * m0 + r12 * m1 + r22 * m2
+                d, ex, ey, ez = ml_contact(bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty)
+                rd, rx, ry, rz = wp * d, wn * ex, wn * ey, wn * ez
+                w = robust_weight(rd * rd + rx * rx + ry * ry + rz * rz, c)[0]
+                o_d[i], o_x[i], o_y[i], o_z[i] = w * rd, w * rx, w * ry, w * rz
+        else:
+            o_d = row[0:n]
+            for i in range(n):
+                d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
+                bx = r00 * d0 + r10 * d1 + r20 * d2
+                by = r01 * d0 + r11 * d1 + r21 * d2
+                bz = r02 * d0 + r12 * d1 + r22 * d2
+                d = ml_contact(bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty)[0]
+                rd = wp * d
+                o_d[i] = robust_weight(rd * rd, c)[0] * rd
+        base = k * n
+        row[base] = wt * tx
+        row[base + 1] = wt * ty
+        row[base + 2] = we * (e1 - e0)
+        row[base + 3] = we * (e2 - e0)
+        base += ML_PRIORS
+        for j in range(nf):
+            d0, d1, d2 = free[0, j] - c0, free[1, j] - c1, free[2, j] - c2
+            bx = r00 * d0 + r10 * d1 + r20 * d2
+            by = r01 * d0 + r11 * d1 + r21 * d2
+            bz = r02 * d0 + r12 * d1 + r22 * d2
+            d = ml_contact(bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty)[0]
+            row[base + j] = wf * max(margin - d, 0.0)
+
+
+@njit(**JIT)
+def ml_residuals_vectors(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool, vectors: np.ndarray,
+    settings: np.ndarray, free: np.ndarray, out: np.ndarray, tally: np.ndarray,
+) -> None:  # fmt: skip
+    """:func:`ml_residuals_posed` for P parameter vectors (P, 13)."""
+    count = vectors.shape[0]
+    rot = np.empty((count, 3, 3))
+    for k in range(count):
+        rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
+    ml_residuals_posed(
+        points, normals, with_normals, vectors[:, 0:3], vectors[:, 3:5], vectors[:, 5:7], rot,
+        vectors[:, 10:13], settings, free, out, tally,
     )  # fmt: skip
 
 
@@ -509,6 +781,41 @@ def residuals_vectors(
     )  # fmt: skip
 
 
+@njit(**_INLINE)
+def _world_column(
+    jac_t: np.ndarray, col: int, gpx: float, gpy: float, gpz: float, gmx: float, gmy: float,
+    gmz: float, ga1: float, ga2: float, ga3: float, ge1: float, ge2: float, gtx: float,
+    gty: float, rm: tuple, jm: tuple, d0: float, d1: float, d2: float, m0: float, m1: float,
+    m2: float,
+) -> None:  # fmt: skip
+    """Column `col` of the transposed Jacobian (13, m) from one residual's body-frame gradient.
+
+    ``rm``, ``jm``: the rotation and its left Jacobian, row-major 9-tuples; ``d = x - x0`` and
+    m the world-frame offset and data normal. The chain rule of the module docstring:
+    ``dr/dtheta = J_l^T (g x d + g_m x m)``, ``dr/dx0 = -g``, with ``g = R dr/dp``.
+    """
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rm
+    j00, j01, j02, j10, j11, j12, j20, j21, j22 = jm
+    i = col
+    jac_t[0, i], jac_t[1, i], jac_t[2, i] = ga1, ga2, ga3
+    jac_t[3, i], jac_t[4, i], jac_t[5, i], jac_t[6, i] = ge1, ge2, gtx, gty
+    # World-frame gradients g = R dr/dp and g_m = R dr/dm.
+    g0 = r00 * gpx + r01 * gpy + r02 * gpz
+    g1 = r10 * gpx + r11 * gpy + r12 * gpz
+    g2 = r20 * gpx + r21 * gpy + r22 * gpz
+    h0 = r00 * gmx + r01 * gmy + r02 * gmz
+    h1 = r10 * gmx + r11 * gmy + r12 * gmz
+    h2 = r20 * gmx + r21 * gmy + r22 * gmz
+    # dr/dtheta = J_l^T (g x d + g_m x m); dr/dx0 = -g.
+    v0 = (g1 * d2 - g2 * d1) + (h1 * m2 - h2 * m1)
+    v1 = (g2 * d0 - g0 * d2) + (h2 * m0 - h0 * m2)
+    v2 = (g0 * d1 - g1 * d0) + (h0 * m1 - h1 * m0)
+    jac_t[7, i] = j00 * v0 + j10 * v1 + j20 * v2
+    jac_t[8, i] = j01 * v0 + j11 * v1 + j21 * v2
+    jac_t[9, i] = j02 * v0 + j12 * v1 + j22 * v2
+    jac_t[10, i], jac_t[11, i], jac_t[12, i] = -g0, -g1, -g2
+
+
 @njit(**JIT)
 def jacobian_vector(
     points: np.ndarray, normals: np.ndarray, with_normals: bool, x: np.ndarray,
@@ -532,6 +839,8 @@ def jacobian_vector(
     j00, j01, j02 = jl[0, 0], jl[0, 1], jl[0, 2]
     j10, j11, j12 = jl[1, 0], jl[1, 1], jl[1, 2]
     j20, j21, j22 = jl[2, 0], jl[2, 1], jl[2, 2]
+    rm = (r00, r01, r02, r10, r11, r12, r20, r21, r22)
+    jm = (j00, j01, j02, j10, j11, j12, j20, j21, j22)
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     c0, c1, c2 = x[10], x[11], x[12]
     lam23 = 2.0 * lam / 3.0
@@ -554,20 +863,178 @@ def jacobian_vector(
             )
         )
         r_out[i] = r
-        jac_t[0, i], jac_t[1, i], jac_t[2, i] = ga1, ga2, ga3
-        jac_t[3, i], jac_t[4, i], jac_t[5, i], jac_t[6, i] = ge1, ge2, gtx, gty
-        # World-frame gradients g = R dr/dp and g_m = R dr/dm.
-        g0 = r00 * gpx + r01 * gpy + r02 * gpz
-        g1 = r10 * gpx + r11 * gpy + r12 * gpz
-        g2 = r20 * gpx + r21 * gpy + r22 * gpz
-        h0 = r00 * gmx + r01 * gmy + r02 * gmz
-        h1 = r10 * gmx + r11 * gmy + r12 * gmz
-        h2 = r20 * gmx + r21 * gmy + r22 * gmz
-        # dr/dtheta = J_l^T (g x d + g_m x m); dr/dx0 = -g.
-        v0 = (g1 * d2 - g2 * d1) + (h1 * m2 - h2 * m1)
-        v1 = (g2 * d0 - g0 * d2) + (h2 * m0 - h0 * m2)
-        v2 = (g0 * d1 - g1 * d0) + (h0 * m1 - h1 * m0)
-        jac_t[7, i] = j00 * v0 + j10 * v1 + j20 * v2
-        jac_t[8, i] = j01 * v0 + j11 * v1 + j21 * v2
-        jac_t[9, i] = j02 * v0 + j12 * v1 + j22 * v2
-        jac_t[10, i], jac_t[11, i], jac_t[12, i] = -g0, -g1, -g2
+        _world_column(
+            jac_t, i, gpx, gpy, gpz, gmx, gmy, gmz, ga1, ga2, ga3, ge1, ge2, gtx, gty, rm, jm,
+            d0, d1, d2, m0, m1, m2,
+        )  # fmt: skip
+
+
+@njit(**JIT)
+def ml_jacobian_vector(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool, x: np.ndarray,
+    settings: np.ndarray, free: np.ndarray, r_out: np.ndarray, jac_t: np.ndarray,
+    tally: np.ndarray,
+) -> None:  # fmt: skip
+    """The ML residual vector (m,) of one parameter vector `x` (13,) and its transposed
+    Jacobian (13, m) (:func:`ml_residuals_posed` for the layout; counts 13 evaluations).
+
+    A contact's robust factor is differentiated too: with r the contact's k weighted residuals,
+    ``z = |r|^2`` and ``w = w(z)``, the rows of ``w r`` have the Jacobian
+    ``w J + 2 w'(z) r (r^T J)``, so the least squares minimise the robust cost exactly.
+    """
+    tally[0] += NP
+    n, nf = points.shape[1], free.shape[1]
+    k = 4 if with_normals else 1
+    wp, wn, c = settings[ML_POINT_WEIGHT], settings[ML_NORMAL_WEIGHT], settings[ML_ROBUST]
+    wt, e0, we = settings[ML_TAPER_WEIGHT], settings[ML_EPS_CENTER], settings[ML_EPS_WEIGHT]
+    wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
+    rot = np.empty((3, 3))
+    rotvec_matrix(x[7], x[8], x[9], rot)
+    jl = np.empty((3, 3))
+    left_jacobian(x[7], x[8], x[9], jl)
+    r00, r01, r02 = rot[0, 0], rot[0, 1], rot[0, 2]
+    r10, r11, r12 = rot[1, 0], rot[1, 1], rot[1, 2]
+    r20, r21, r22 = rot[2, 0], rot[2, 1], rot[2, 2]
+    rm = (r00, r01, r02, r10, r11, r12, r20, r21, r22)
+    jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
+          jl[2, 2])  # fmt: skip
+    a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
+    c0, c1, c2 = x[10], x[11], x[12]
+    for i in range(n):
+        d0, d1, d2 = points[0, i] - c0, points[1, i] - c1, points[2, i] - c2
+        bx = r00 * d0 + r10 * d1 + r20 * d2
+        by = r01 * d0 + r11 * d1 + r21 * d2
+        bz = r02 * d0 + r12 * d1 + r22 * d2
+        m0 = m1 = m2 = mx = my = mz = 0.0
+        if with_normals:
+            m0, m1, m2 = normals[0, i], normals[1, i], normals[2, i]
+            mx = r00 * m0 + r10 * m1 + r20 * m2
+            my = r01 * m0 + r11 * m1 + r21 * m2
+            mz = r02 * m0 + r12 * m1 + r22 * m2
+        vals, gd, gx, gy, gz = ml_contact_gradient(
+            bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty, with_normals
+        )
+        col = i
+        _world_column(
+            jac_t, col, wp * gd[0], wp * gd[1], wp * gd[2], 0.0, 0.0, 0.0, wp * gd[3],
+            wp * gd[4], wp * gd[5], wp * gd[6], wp * gd[7], wp * gd[8], wp * gd[9], rm, jm,
+            d0, d1, d2, m0, m1, m2,
+        )  # fmt: skip
+        r_out[col] = wp * vals[0]
+        if with_normals:
+            for j in range(3):
+                g = gx if j == 0 else (gy if j == 1 else gz)
+                _world_column(
+                    jac_t, col + (1 + j) * n, wn * g[0], wn * g[1], wn * g[2],
+                    -wn if j == 0 else 0.0, -wn if j == 1 else 0.0, -wn if j == 2 else 0.0,
+                    wn * g[3], wn * g[4], wn * g[5], wn * g[6], wn * g[7], wn * g[8], wn * g[9],
+                    rm, jm, d0, d1, d2, m0, m1, m2,
+                )  # fmt: skip
+                r_out[col + (1 + j) * n] = wn * vals[1 + j]
+        if c > 0.0:
+            z = 0.0
+            for j in range(k):
+                z += r_out[col + j * n] * r_out[col + j * n]
+            w, dw = robust_weight(z, c)
+            for p in range(NP):
+                rj = 0.0
+                for j in range(k):
+                    rj += r_out[col + j * n] * jac_t[p, col + j * n]
+                for j in range(k):
+                    jac_t[p, col + j * n] = (
+                        w * jac_t[p, col + j * n] + 2.0 * dw * r_out[col + j * n] * rj
+                    )
+            for j in range(k):
+                r_out[col + j * n] *= w
+    base = k * n
+    for j in range(ML_PRIORS):
+        for p in range(NP):
+            jac_t[p, base + j] = 0.0
+    r_out[base], jac_t[5, base] = wt * tx, wt
+    r_out[base + 1], jac_t[6, base + 1] = wt * ty, wt
+    r_out[base + 2], jac_t[3, base + 2] = we * (e1 - e0), we
+    r_out[base + 3], jac_t[4, base + 3] = we * (e2 - e0), we
+    base += ML_PRIORS
+    for j in range(nf):
+        d0, d1, d2 = free[0, j] - c0, free[1, j] - c1, free[2, j] - c2
+        bx = r00 * d0 + r10 * d1 + r20 * d2
+        by = r01 * d0 + r11 * d1 + r21 * d2
+        bz = r02 * d0 + r12 * d1 + r22 * d2
+        vals, gd, _, _, _ = ml_contact_gradient(
+            bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty, False
+        )
+        h = margin - vals[0]
+        col = base + j
+        if h > 0.0:
+            r_out[col] = wf * h
+            _world_column(
+                jac_t, col, -wf * gd[0], -wf * gd[1], -wf * gd[2], 0.0, 0.0, 0.0, -wf * gd[3],
+                -wf * gd[4], -wf * gd[5], -wf * gd[6], -wf * gd[7], -wf * gd[8], -wf * gd[9],
+                rm, jm, d0, d1, d2, 0.0, 0.0, 0.0,
+            )  # fmt: skip
+        else:
+            r_out[col] = 0.0
+            for p in range(NP):
+                jac_t[p, col] = 0.0
+
+
+# ---------------------------------------------------------------------------- problems
+#: Residual models of a problem tuple: the paper's EOF residuals (eq. 9) or the ML residuals.
+MODEL_EOF, MODEL_ML = 0, 1
+
+
+@njit(**JIT)
+def residual_length(problem: tuple) -> int:
+    """Length m of the residual vector of a problem.
+
+    A *problem* is the tuple ``(points (3, n), normals (3, n), with_normals, lam, tapered,
+    model, settings (ML_SETTINGS,), free (3, f))``: the paper's EOF (``model == MODEL_EOF``:
+    `lam`, `tapered` used, m = n) or the ML residuals (``MODEL_ML``: `settings`, `free` used).
+    The least squares minimise ``sum(r^2)`` and the genetic algorithm ranks by ``sum(r^2) / n``
+    of whichever it is.
+    """
+    points, _, with_normals, _, _, model, _, free = problem
+    if model == MODEL_ML:
+        return ml_residual_count(points.shape[1], with_normals, free.shape[1])
+    return points.shape[1]
+
+
+@njit(**JIT)
+def problem_residuals_posed(
+    problem: tuple, a: np.ndarray, eps: np.ndarray, taper: np.ndarray, rot: np.ndarray,
+    center: np.ndarray, out: np.ndarray, tally: np.ndarray,
+) -> None:  # fmt: skip
+    """Residuals (P, m) of P posed bodies into `out` (see :func:`residual_length`)."""
+    points, normals, with_normals, lam, tapered, model, settings, free = problem
+    if model == MODEL_ML:
+        ml_residuals_posed(
+            points, normals, with_normals, a, eps, taper, rot, center, settings, free, out, tally
+        )
+    else:
+        residuals_posed(
+            points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally
+        )
+
+
+@njit(**JIT)
+def problem_residuals(
+    problem: tuple, vectors: np.ndarray, out: np.ndarray, tally: np.ndarray
+) -> None:
+    """Residuals (P, m) of P parameter vectors (P, 13) into `out`."""
+    points, normals, with_normals, lam, tapered, model, settings, free = problem
+    if model == MODEL_ML:
+        ml_residuals_vectors(points, normals, with_normals, vectors, settings, free, out, tally)
+    else:
+        residuals_vectors(points, normals, with_normals, vectors, lam, tapered, out, tally)
+
+
+@njit(**JIT)
+def problem_jacobian(
+    problem: tuple, x: np.ndarray, r_out: np.ndarray, jac_t: np.ndarray, tally: np.ndarray
+) -> None:
+    """Residuals (m,) and transposed Jacobian (13, m) of one vector (counts 13 evaluations)."""
+    points, normals, with_normals, lam, tapered, model, settings, free = problem
+    if model == MODEL_ML:
+        ml_jacobian_vector(points, normals, with_normals, x, settings, free, r_out, jac_t, tally)
+    else:
+        jacobian_vector(points, normals, with_normals, x, lam, tapered, r_out, jac_t, tally)

@@ -69,6 +69,44 @@ class ContactSet:
         """The number of contacts n."""
         return int(self.points.shape[1])
 
+    def problem(
+        self, lam: float, tapered: bool, settings: Array | None = None, free: Array | None = None
+    ) -> tuple:
+        """The tuple the compiled least squares and genetic algorithm minimise.
+
+        Args:
+            lam, tapered: the paper EOF's lambda and distance mode.
+            settings: None for the paper's EOF residuals; else the (8,) settings of the
+                maximum-likelihood residuals (``_eof_compiled.ML_*`` layout).
+            free: (f, 3) float free-space points [m, world] of the ML residuals, or None.
+
+        Returns:
+            ``(points, normals, with_normals, lam, tapered, model, settings, free)`` (see
+            :func:`hapticsim.geometry._eof_compiled.residual_length`).
+        """
+        model = kernel.MODEL_EOF if settings is None else kernel.MODEL_ML
+        ml = np.zeros(kernel.ML_SETTINGS) if settings is None else np.asarray(settings, np.float64)
+        if ml.shape != (kernel.ML_SETTINGS,):
+            raise InvalidInputError(f"`settings` must be ({kernel.ML_SETTINGS},), got {ml.shape}")
+        pts = np.zeros((3, 0)) if free is None else np.asarray(free, dtype=np.float64).T
+        return (self.points, self.normals, self.with_normals, float(lam), bool(tapered), model,
+                np.ascontiguousarray(ml), np.ascontiguousarray(pts))  # fmt: skip
+
+    def problem_residuals(self, problem: tuple, vectors: Array) -> Array:
+        """Residual vectors (P, m) of a :meth:`problem` at P parameter vectors (P, 13)."""
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        out = np.empty((v.shape[0], kernel.residual_length(problem)))
+        kernel.problem_residuals(problem, v, out, self.tally)
+        return out
+
+    def problem_jacobian(self, problem: tuple, vector: Array) -> tuple[Array, Array]:
+        """Residual vector (m,) of a :meth:`problem` and its analytic Jacobian (m, 13)."""
+        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_VECTOR)
+        m = kernel.residual_length(problem)
+        r, jac_t = np.empty(m), np.empty((N_VECTOR, m))
+        kernel.problem_jacobian(problem, x, r, jac_t, self.tally)
+        return r, jac_t.T
+
     def residuals(self, vectors: Array, lam: float, tapered: bool) -> Array:
         """Residuals (P, n) [m] of P parameter vectors (P, 13)."""
         v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)

@@ -1,0 +1,230 @@
+"""nML: a maximum-likelihood (MAP) fit for noisy contact data, on the hybrid search of nH.
+
+The objective is :mod:`hapticsim.fitting.likelihood`'s (orthogonal distances and normal
+differences weighted by the sensor noise, a robust loss, weak priors on the tapers and shape
+exponents, free space); the search is the one of H and nH
+(:func:`~hapticsim.fitting.hybrid.hybrid_search`: seed steps, genetic algorithm, probes,
+polish), with the same budget, counting and seeds. The steps:
+
+1. *search*: the hybrid search on the ML objective with sigma_N = the given noise or
+   :attr:`MLOptions.initial_noise`, and the length scale ``L = s / sqrt(3)`` from the data size
+   s (the largest distance of a contact from the centroid; a cube touched all round has
+   ``s ~ sqrt(3) a``);
+2. *re-estimate*: ``L = mean(a)`` of the result (SPEC §5's noise scale) and, when the noise was
+   not given, sigma_N from the residuals (:func:`~hapticsim.fitting.likelihood.estimate_noise`,
+   at least :attr:`MLOptions.noise_floor`);
+3. *refine*: least squares from the result under the new weights; steps 2-3 run
+   :attr:`MLOptions.refine` times, with :attr:`MLOptions.refine_budget` evaluations kept back
+   for them.
+
+The fit reports the SPEC §2 EOF of its estimate like every method, and the noise level it used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.fitting.hybrid import HybridOptions, distinct_starts, hybrid_search
+from hapticsim.fitting.least_squares import (
+    MIN_RUN_EVALUATIONS,
+    STEP_EVALUATIONS,
+    least_squares_run,
+    multi_start_run,
+)
+from hapticsim.fitting.likelihood import Likelihood, estimate_noise
+from hapticsim.fitting.objective import Objective
+from hapticsim.geometry.superquadric import SLICE_A
+
+Array = NDArray[np.float64]
+
+
+#: Where nML's search finds its basins (:attr:`MLOptions.search`).
+SEARCHES: tuple[str, ...] = ("eof", "ml")
+
+
+@dataclass(frozen=True)
+class MLOptions:
+    """Settings of nML (:func:`ml_search`); the defaults are what the ablation
+    (``docs/nml/README.md``) chose on tuning seeds.
+
+    Attributes:
+        robust: pseudo-Huber threshold c on a contact's normalised residual norm, >= 0
+            (0: plain least squares).
+        taper_prior: std of the Gaussian prior on each taper, > 0, or None (no prior).
+        eps_prior: ``(eps_0, tau_e)``, the Gaussian prior on each shape exponent, or None.
+        initial_noise: sigma_N assumed by the search when the noise is not given, > 0.
+        noise_floor: smallest sigma_N used (clean data would give infinite weights), > 0.
+        refine: re-estimation rounds after the search, >= 0.
+        refine_budget: evaluations kept back for them, >= 0.
+        free_margin: how far outside the solid [m] free-space points must lie.
+        search: ``"eof"``: the hybrid search runs on the paper's EOF (nH's search, whose
+            genetic algorithm and seed steps find its basins reliably), then
+            :attr:`candidates` distinct solids of its last generation and its best are
+            probed and polished on the ML objective, which picks the basin; ``"ml"``: the
+            hybrid search runs on the ML objective itself (measured: it stops in a wrong basin
+            more often, ``docs/nml/README.md``).
+        candidates: distinct solids of the EOF search's last generation probed, >= 1.
+        probe_steps: Levenberg-Marquardt steps of each ML probe, >= 1.
+        ml_budget: with ``search="eof"``, the evaluations kept for the ML stages, >= 1.
+        hybrid: settings of the search.
+    """
+
+    robust: float = 2.0
+    taper_prior: float | None = 0.3
+    eps_prior: tuple[float, float] | None = None
+    initial_noise: float = 0.05
+    noise_floor: float = 0.005
+    refine: int = 2
+    refine_budget: int = 600
+    free_margin: float = 0.0
+    search: str = "eof"
+    candidates: int = 6
+    probe_steps: int = 8
+    ml_budget: int = 1500
+    hybrid: HybridOptions | None = None
+
+    def __post_init__(self) -> None:
+        if not (self.initial_noise > 0 and self.noise_floor > 0):
+            raise InvalidInputError(
+                f"`initial_noise` and `noise_floor` must be > 0, got {self.initial_noise} and "
+                f"{self.noise_floor}"
+            )
+        if self.refine < 0 or self.refine_budget < 0:
+            raise InvalidInputError(
+                f"`refine` and `refine_budget` must be >= 0, got {self.refine} and "
+                f"{self.refine_budget}"
+            )
+        if self.search not in SEARCHES:
+            raise InvalidInputError(f"`search` must be one of {SEARCHES}, got {self.search!r}")
+        if self.candidates < 1 or self.probe_steps < 1 or self.ml_budget < 1:
+            raise InvalidInputError(
+                f"`candidates`, `probe_steps` and `ml_budget` must be >= 1, got "
+                f"{self.candidates}, {self.probe_steps} and {self.ml_budget}"
+            )
+        self.likelihood(0.1, 1.0)  # validates robust, the priors and the margin
+
+    def likelihood(self, noise: float, length: float) -> Likelihood:
+        """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale."""
+        return Likelihood(
+            noise=max(noise, self.noise_floor), length=length, robust=self.robust,
+            taper_prior=self.taper_prior, eps_prior=self.eps_prior, free_margin=self.free_margin,
+        )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class MLRun:
+    """Outcome of :func:`ml_search`.
+
+    Attributes:
+        status: the status of the last least-squares run (or of the search).
+        noise: the sigma_N of the final weights (given, or estimated and floored).
+        estimated: whether it was estimated from the residuals.
+        length: the final length scale L [m].
+    """
+
+    status: str
+    noise: float
+    estimated: bool
+    length: float
+
+
+def ml_search(
+    objective: Objective,
+    seeds: Array,
+    rng: np.random.Generator,
+    noise: float | None,
+    options: MLOptions | None = None,
+) -> MLRun:
+    """Minimise the ML objective within the objective's budget (module docstring).
+
+    Args:
+        objective: an :class:`~hapticsim.fitting.objective.Objective` with ML settings (from
+            :meth:`MLOptions.likelihood` with the starting noise and length); its best vector is
+            the result.
+        seeds: (k, 13) start vectors of the search.
+        rng: the generator of every random choice.
+        noise: the known sigma_N, or None to estimate it.
+        options: settings (default :class:`MLOptions`).
+    """
+    opt = MLOptions() if options is None else options
+    if not objective.ml:
+        raise InvalidInputError("ml_search needs an objective with ML settings")
+    total = objective.budget
+    keep = min(opt.refine_budget, total // 4) if opt.refine else 0
+    if opt.search == "eof":
+        status = _eof_search(objective, seeds, rng, opt, total - keep)
+    else:
+        objective.budget = total - keep  # the search leaves `keep` for the refinement
+        try:
+            _, status = hybrid_search(objective, seeds, rng, opt.hybrid)
+        finally:
+            objective.budget = total
+    given = noise is not None
+    sigma = float(noise) if given else opt.initial_noise
+    length = objective.bounds.size / np.sqrt(3.0)
+    for _ in range(opt.refine):
+        if objective.remaining < MIN_RUN_EVALUATIONS:
+            break
+        best = objective.best_vector
+        length = float(np.mean(best[SLICE_A]))
+        if not given:
+            sigma = estimate_noise(objective.contacts, best, length)
+        objective.reweight(opt.likelihood(sigma, length).settings())
+        status = least_squares_run(objective, best).status
+    return MLRun(status=status, noise=max(sigma, opt.noise_floor), estimated=not given,
+                 length=length)  # fmt: skip
+
+
+def _eof_search(
+    objective: Objective, seeds: Array, rng: np.random.Generator, opt: MLOptions, cap: int
+) -> str:
+    """nH's search on the paper EOF, then ML probes from its distinct solids and an ML polish,
+    all within `cap` evaluations counted on `objective`."""
+    total, ml_share = objective.budget, min(opt.ml_budget, cap // 2)
+    eof = Objective(objective.points, objective.normals, DEFAULT_LAMBDA, cap - ml_share, "tapered")
+    run, status = hybrid_search(eof, seeds, rng, opt.hybrid)
+    objective.record(eof.evaluations, np.empty((0, 13)), np.empty(0))
+    starts = [eof.best_vector, *distinct_starts(run, opt.candidates, objective.bounds.size)]
+    objective.budget = cap
+    try:
+        x = np.array(starts)
+        probe = len(x) * (1 + opt.probe_steps * STEP_EVALUATIONS)
+        if len(x) > 1 and objective.remaining >= probe + MIN_RUN_EVALUATIONS:
+            x, cost = multi_start_run(objective, x, opt.probe_steps)
+            x = x[np.argsort(cost, kind="stable")]
+        if objective.remaining >= MIN_RUN_EVALUATIONS:
+            status = least_squares_run(objective, x[0]).status
+    finally:
+        objective.budget = total
+    return status
+
+
+def ml_objective(
+    points: Array,
+    normals: Array | None,
+    budget: int,
+    noise: float | None,
+    free: Array | None,
+    options: MLOptions | None = None,
+) -> Objective:
+    """The :class:`~hapticsim.fitting.objective.Objective` nML starts with: ML weights at the
+    given (or assumed) noise and the data-size length scale, tapered distance."""
+    opt = MLOptions() if options is None else options
+    probe = Objective(points, normals, 0.0, 1, "tapered")
+    length = probe.bounds.size / np.sqrt(3.0)
+    sigma = opt.initial_noise if noise is None else noise
+    settings = opt.likelihood(sigma, length).settings()
+    return Objective(points, normals, 0.0, budget, "tapered", settings=settings, free=free)
+
+
+def with_options(options: MLOptions | None, **changes: object) -> MLOptions:
+    """A copy of `options` (default :class:`MLOptions`) with fields changed (the ablation)."""
+    return replace(MLOptions() if options is None else options, **changes)
+
+
+__all__ = ["MLOptions", "MLRun", "ml_objective", "ml_search", "with_options"]
