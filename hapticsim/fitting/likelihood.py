@@ -40,9 +40,11 @@ from hapticsim.geometry.eof import ContactSet
 
 Array = NDArray[np.float64]
 
-#: Median of |x| for a standard normal x (the consistency factor of the median absolute
-#: deviation).
-MAD_NORMAL: float = 0.6744897501960817
+#: Share of the largest |distances| the noise estimate leaves out.
+TRIM: float = 0.1
+#: ``E[x^2 | |x| < z]`` for a standard normal x and ``P(|x| < z) = 1 - TRIM``:
+#: ``1 - 2 z phi(z) / (1 - TRIM)`` with z = 1.6449.
+TRIM_FACTOR: float = 0.6230
 
 
 @dataclass(frozen=True)
@@ -57,6 +59,11 @@ class Likelihood:
         taper_prior: std tau_t of the Gaussian prior on each taper, > 0, or None.
         eps_prior: ``(eps_0, tau_e)`` of the Gaussian prior on each shape exponent, or None.
         free_margin: how far outside the solid [m] free-space points must lie (0: outside).
+        normal_factor: ``sigma_n = normal_factor * noise``, > 0. The sensor's normal noise is
+            sigma_N (factor 1), but the model normal is taken at the *measured* point: on a
+            surface of curvature kappa the point noise moves it by ``kappa sigma_p`` per
+            tangential component, about sigma_N again on a round body (``kappa ~ 1 / mean(a)``),
+            0 on a flat face; a factor between 1 and sqrt(2) accounts for that.
     """
 
     noise: float
@@ -65,9 +72,10 @@ class Likelihood:
     taper_prior: float | None = None
     eps_prior: tuple[float, float] | None = None
     free_margin: float = 0.0
+    normal_factor: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("noise", "length"):
+        for name in ("noise", "length", "normal_factor"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise InvalidInputError(f"`{name}` must be finite and > 0, got {value!r}")
@@ -92,7 +100,7 @@ class Likelihood:
         """The (8,) settings array of the compiled ML residuals (``_eof_compiled.ML_*``)."""
         out = np.zeros(kernel.ML_SETTINGS)
         out[kernel.ML_POINT_WEIGHT] = 1.0 / self.point_sigma
-        out[kernel.ML_NORMAL_WEIGHT] = 1.0 / self.noise
+        out[kernel.ML_NORMAL_WEIGHT] = 1.0 / (self.normal_factor * self.noise)
         out[kernel.ML_ROBUST] = self.robust
         if self.taper_prior is not None:
             out[kernel.ML_TAPER_WEIGHT] = 1.0 / self.taper_prior
@@ -115,21 +123,25 @@ def contact_distances(contacts: ContactSet, vector: Array) -> Array:
 def estimate_noise(contacts: ContactSet, vector: Array, length: float) -> float:
     """The relative noise level sigma_N estimated from a fit's residuals.
 
-    From the distances alone: ``sigma_N = median(|d|) / (0.6745 L)``, the median absolute
-    deviation of a normal variable (the fitted surface runs through the noisy points, so d has
-    mean 0). Not from the normal residuals: a contact within the point noise of an edge of a
-    box-like solid (eps ~ 0.1) gets the neighbouring face's model normal, which inflates them
-    (measured on the paper's cube at sigma_N = 0.1: the median-based estimate from both terms
-    is 0.127 at the true solid, from the distances 0.098). The 13 fitted parameters take about
-    13 / n of the residual variance (9 % for 150 contacts); not corrected.
+    From the distances alone, by a trimmed root mean square: with the :data:`TRIM` share of the
+    largest ``|d|`` left out, ``sigma_N = sqrt(mean(d^2) / TRIM_FACTOR) / L``, ``TRIM_FACTOR``
+    the mean of ``x^2`` over the central 90 % of a standard normal (0.6230), so that a few far
+    contacts (a wrong patch of the fit, an outlier) do not count, at about 80 % of the
+    efficiency of the plain RMS (the median absolute deviation has 37 %: measured +-10 % per
+    estimate on 150 contacts). Not from the normal residuals: a contact within the point noise
+    of an edge of a box-like solid (eps ~ 0.1) gets the neighbouring face's model normal, which
+    inflates them (the paper's cube at sigma_N = 0.1: 0.127 from both terms at the true solid).
+    The 13 fitted parameters take about 13 / n of the residual variance (9 % for 150
+    contacts); not corrected.
 
     Args:
         contacts: the contacts.
         vector: (13,) the fit.
         length: L [m], the fit's mean semi-axis (SPEC §5's point-noise scale).
     """
-    d = contact_distances(contacts, vector)
-    return float(np.median(np.abs(d)) / (MAD_NORMAL * length))
+    d = np.sort(np.abs(contact_distances(contacts, vector)))
+    kept = d[: max(1, int(round((1.0 - TRIM) * len(d))))]
+    return float(np.sqrt(np.mean(kept**2) / TRIM_FACTOR) / length)
 
 
-__all__ = ["MAD_NORMAL", "Likelihood", "contact_distances", "estimate_noise"]
+__all__ = ["TRIM", "TRIM_FACTOR", "Likelihood", "contact_distances", "estimate_noise"]

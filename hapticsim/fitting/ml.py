@@ -62,6 +62,8 @@ class MLOptions:
         refine: re-estimation rounds after the search, >= 0.
         refine_budget: evaluations kept back for them, >= 0.
         free_margin: how far outside the solid [m] free-space points must lie.
+        normal_factor: the normal residuals' noise in units of sigma_N, > 0
+            (:class:`~hapticsim.fitting.likelihood.Likelihood`).
         search: ``"eof"``: the hybrid search runs on the paper's EOF (nH's search, whose
             genetic algorithm and seed steps find its basins reliably), then
             :attr:`candidates` distinct solids of its last generation and its best are
@@ -82,6 +84,7 @@ class MLOptions:
     refine: int = 2
     refine_budget: int = 600
     free_margin: float = 0.0
+    normal_factor: float = 2.0**0.5
     search: str = "eof"
     candidates: int = 6
     probe_steps: int = 8
@@ -113,6 +116,7 @@ class MLOptions:
         return Likelihood(
             noise=max(noise, self.noise_floor), length=length, robust=self.robust,
             taper_prior=self.taper_prior, eps_prior=self.eps_prior, free_margin=self.free_margin,
+            normal_factor=self.normal_factor,
         )  # fmt: skip
 
 
