@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from hapticsim.errors import HapticsimError
+from hapticsim.errors import HapticsimError, InvalidInputError
 
 EXIT_BAD_INPUT = 2
 #: Exit status after Ctrl-C (128 + SIGINT, as a shell reports it).
@@ -130,16 +130,29 @@ def _cmd_score(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
-    from hapticsim.data.io import read_contacts, write_json
+    from hapticsim.data.io import FREE_SPACE_KEY, read_contacts, write_json
     from hapticsim.fitting import fit
 
     contacts = read_contacts(args.contacts)
+    extra: dict = {}
+    if args.noise is not None or args.free_space:
+        if args.method != "nML":
+            raise InvalidInputError("--noise and --free-space are for --method nML only")
+        extra["noise"] = args.noise
+    if args.free_space:
+        if FREE_SPACE_KEY not in contacts.extra:
+            raise InvalidInputError(
+                f"{args.contacts} has no `{FREE_SPACE_KEY}` array for --free-space (found: "
+                f"{sorted(contacts.extra) or 'nothing'})"
+            )
+        extra["free"] = contacts.extra[FREE_SPACE_KEY].reshape(-1, 3)
     result = fit(
         contacts.points,
         contacts.normals,
         method=args.method,
         budget=args.budget,
         rng=args.seed,
+        **extra,
     )
     out = result.to_dict()
     if args.out:
@@ -274,7 +287,7 @@ def _add_suite_parser(sub: Any) -> None:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``hapticsim`` (exposed for tests and docs)."""
     from hapticsim.data.bodies import BODY_NAMES
-    from hapticsim.fitting.methods import DEFAULT_BUDGET, METHODS
+    from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS
 
     parser = _Parser(
         prog="hapticsim",
@@ -301,7 +314,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("fit", help="fit a superquadric to a contacts file")
     p.add_argument("contacts", help=".npz or .csv contacts file (SPEC §6)")
-    p.add_argument("--method", choices=METHODS, default="nH")
+    p.add_argument(
+        "--method", choices=FIT_METHODS, default="nH",
+        help="the paper's LS, H, nLS, nH (SPEC §3), or nML: maximum likelihood for noisy data",
+    )  # fmt: skip
+    p.add_argument(
+        "--noise", type=float, default=None,
+        help="nML: the known relative sensor noise sigma_N (default: estimated from the data)",
+    )  # fmt: skip
+    p.add_argument(
+        "--free-space", action="store_true",
+        help="nML: keep the solid out of the file's `free_space` points (where the fingertip was)",
+    )  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(
         "--budget", type=int, default=None, help=f"EOF evaluations (default {DEFAULT_BUDGET})"
@@ -335,7 +359,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--strategy", default="paper", help="exploration strategy (default paper; list below)"
     )
     p.add_argument("--noise", type=float, default=0.0, help="sensor noise sigma_N (default 0)")
-    p.add_argument("--method", choices=METHODS, default="nH")
+    p.add_argument("--method", choices=FIT_METHODS, default="nH")
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(
         "--out", default=None, help="output directory (default runs/OBJECT-STRATEGY-seedN)"

@@ -120,8 +120,11 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
                     "seconds_median": float(np.median([r["seconds"] for r in sel])),
                     "runs": len(sel),
                 }
-                est = [r["noise_estimate"] / noise for r in sel
-                       if r["noise_estimate"] is not None and noise > 0 and variant == "nML"]
+                est = [
+                    r["noise_estimate"] / noise
+                    for r in sel
+                    if r["noise_estimate"] is not None and noise > 0 and variant == "nML"
+                ]
                 if est:
                     cell["noise_ratio_mean"] = float(np.mean(est))
                     cell["noise_ratio_within_20pct"] = float(np.mean(np.abs(np.array(est) - 1)
@@ -158,8 +161,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--markdown", action="store_true", help="Markdown tables instead")
     args = parser.parse_args(argv)
 
-    variants = tuple(args.variants.split("|")) if "|" in args.variants else tuple(
-        args.variants.split(",")
+    variants = (
+        tuple(args.variants.split("|")) if "|" in args.variants else tuple(args.variants.split(","))
     )
     kinds = [(b, s) for b in args.bodies.split(",") for s in _seeds(args.paper_seeds)]
     kinds += [("random", s) for s in _seeds(args.random_seeds)]

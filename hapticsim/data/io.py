@@ -27,6 +27,10 @@ from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
 CONTACT_SUFFIXES: tuple[str, ...] = (".npz", ".csv")
+#: Optional contacts-file array of free-space points, (f, 3) [m, world], any f: where the
+#: fingertips have been, outside the object (``explore`` writes their centres along the run).
+#: ``fit`` ignores it (SPEC §6) unless asked: ``--method nML --free-space``.
+FREE_SPACE_KEY: str = "free_space"
 
 
 @dataclass(frozen=True)
@@ -36,7 +40,8 @@ class Contacts:
     Attributes:
         points: (n, 3) float, contact locations [m].
         normals: (n, 3) float unit vectors or None.
-        extra: further named arrays (e.g. ``points_clean``, ``finger``), each with n rows.
+        extra: further named arrays (e.g. ``points_clean``, ``finger``), each with n rows, and
+            optionally ``free_space`` (:data:`FREE_SPACE_KEY`), (f, 3) with any f.
     """
 
     points: Array
@@ -51,6 +56,9 @@ class Contacts:
         extra = dict(self.extra or {})
         for key, value in extra.items():
             arr = np.asarray(value)
+            if key == FREE_SPACE_KEY:  # free-space points: any number of rows
+                extra[key] = finite_array(arr, key, (None, 3))
+                continue
             if arr.ndim == 0 or arr.shape[0] != len(pts):
                 raise InvalidInputError(
                     f"contacts array `{key}` must have one row per point ({len(pts)}), "

@@ -11,7 +11,8 @@ output directory:
 - ``contacts.npz``: ``points``, ``normals`` (with noise), ``points_clean``, ``normals_clean``,
   ``finger`` (n,) int (the hand description's order, 0 the thumb: thumb, index, middle, ring for
   hapticsim's hand), ``force`` (n,) [N], ``time`` (n,) [s], ``pattern`` (n,) int (pattern id;
-  ``pattern_kind`` gives patch/stripe per id);
+  ``pattern_kind`` gives patch/stripe per id), ``free_space`` (f, 3) [m] the fingertip centres along
+  the run near the contacts (free space: ``hapticsim fit --method nML --free-space``);
 - ``truth.json`` (superquadric) or, for a mesh object, ``truth.stl`` (world frame, metres);
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
@@ -68,7 +69,8 @@ def explore(
             ``.off``), or an :class:`~hapticsim.data.objects.ObjectSpec`.
         strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``).
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
-        method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``.
+        method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``, or ``nML`` (which also keeps
+            the solid out of the fingertip centres, the contacts file's ``free_space``).
         seed: seed of everything random (rough object, strategy, noise, fit, score).
         out_dir: output directory (default ``runs/<object>-<strategy>-seed<seed>``).
         render: also write ``scene.png`` from MuJoCo's offscreen renderer.
@@ -98,7 +100,7 @@ def explore(
             unstable, or too few contacts were gathered.
     """
     from hapticsim.data.objects import ObjectSpec, Pose
-    from hapticsim.fitting import METHODS
+    from hapticsim.fitting.methods import FIT_METHODS as METHODS
     from hapticsim.sim.session import MIN_CONTACTS
 
     if isinstance(pose, str):
@@ -141,6 +143,7 @@ def _explore(
 ) -> dict[str, Any]:  # fmt: skip
     from tqdm import tqdm
 
+    from hapticsim.data.io import FREE_SPACE_KEY
     from hapticsim.data.noise import add_noise
     from hapticsim.data.objects import stl_bytes, truth_size
     from hapticsim.experiments.explore_report import (
@@ -152,6 +155,7 @@ def _explore(
     from hapticsim.geometry.mesh_solid import MeshSolid
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.sim.free_space import near_contacts
     from hapticsim.sim.session import run_exploration
     from hapticsim.sim.video import ExplorationVideo
 
@@ -199,7 +203,10 @@ def _explore(
             a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
         )
         bar.set_postfix_str("fitting")
-        result = fit(points, normals, method=method, rng=fit_seed)
+        # nML keeps the solid out of where the fingertips have been (their centres).
+        free_space = near_contacts(run.free_space, a["points_clean"])
+        free = {"free": free_space} if method == "nML" else {}
+        result = fit(points, normals, method=method, rng=fit_seed, **free)
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
@@ -251,6 +258,7 @@ def _explore(
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
     extra = {k: a[k] for k in keys}
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
+    extra[FREE_SPACE_KEY] = free_space  # fingertip centres: free space for nML
     with OutputSet():  # all files or none, even on Ctrl-C
         files = _write_outputs(out, points, normals, extra, truth, truth_file, result, metrics,
                                report, picture, video_config)  # fmt: skip

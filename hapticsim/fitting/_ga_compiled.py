@@ -288,8 +288,9 @@ def _evaluate(
 
 @njit(**JIT)
 def ga_run(
-    problem: tuple, seeds: np.ndarray, seed_rot: np.ndarray, lower: np.ndarray, upper: np.ndarray, size: float,
-    cap: int, rng: np.random.Generator, population: int, crowding: bool, window: int, elite: int,
+    problem: tuple, seeds: np.ndarray, seed_rot: np.ndarray, lower: np.ndarray,
+    upper: np.ndarray, size: float, cap: int, rng: np.random.Generator, population: int,
+    crowding: bool, window: int, elite: int,
     settings: np.ndarray, stall_generations: int, max_generations: int, target_eof: float,
     out_genes: np.ndarray, out_rot: np.ndarray, out_eof: np.ndarray,
     hist_evals: np.ndarray, hist_best: np.ndarray, tally: np.ndarray,

@@ -94,9 +94,7 @@ def fit(
         InvalidInputError: any argument out of its domain; the message names it.
     """
     if not isinstance(method, str) or method not in FIT_METHODS:
-        raise InvalidInputError(
-            f"`method` must be one of {', '.join(FIT_METHODS)}, got {method!r}"
-        )
+        raise InvalidInputError(f"`method` must be one of {', '.join(FIT_METHODS)}, got {method!r}")
     pts = physical_points(points, "points", min_count=N_PARAMS)
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:

@@ -27,8 +27,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import InvalidInputError
 from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, distinct_starts, hybrid_search
 from hapticsim.fitting.least_squares import (
     MIN_RUN_EVALUATIONS,

@@ -288,7 +288,7 @@ def _normal_backward(
     g_nx: float, g_ny: float, g_nz: float, px: float, py: float, pz: float, ta: float,
     tb: float, fx: float, fy: float, phu: float, phv: float, psg: float, hu: float, hv: float,
     nx: float, ny: float, nz0: float, qa: float, qb: float,
-) -> tuple[float, float, float, float, float, float, float, float, float, float, float]:  # fmt: skip
+) -> tuple:  # fmt: skip
     """Adjoints of :func:`_normal_forward` from those of n: ``(g_ta, g_tb, g_fx, g_fy, g_px,
     g_py, g_pz, g_phu, g_phv, g_psg, g_psw)``."""
     # nz = nz0 - ta hu / fx - tb hv / fy

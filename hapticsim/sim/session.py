@@ -20,6 +20,7 @@ from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
+from hapticsim.sim.free_space import FreeSpaceTrace
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject, vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
@@ -49,6 +50,8 @@ class Exploration:
         explorer: the explorer (its simulator holds the final state).
         requested: contacts asked for.
         stop_reason: why fewer than `requested` were gathered (None when all were).
+        free_space: (f, 3) float, fingertip centres along the run [m, world]
+            (:class:`~hapticsim.sim.free_space.FreeSpaceTrace`): outside the object.
     """
 
     truth: Superquadric | MeshSolid
@@ -62,6 +65,7 @@ class Exploration:
     explorer: Explorer = field(repr=False)
     requested: int = 0
     stop_reason: str | None = None
+    free_space: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -128,6 +132,8 @@ def run_exploration(
     explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end)
     if video is not None:
         video.attach(explorer.sim, recorder)
+    trace = FreeSpaceTrace()  # fingertip centres: free space for nML (changes no physics)
+    trace.attach(explorer.sim)
     run_strategy(explorer, count, strategy_rng)
     wall = time.perf_counter() - start
     if len(recorder) < MIN_CONTACTS:
@@ -147,6 +153,7 @@ def run_exploration(
         explorer=explorer,
         requested=count,
         stop_reason=explorer.stop_reason,
+        free_space=trace.points(),
     )
 
 

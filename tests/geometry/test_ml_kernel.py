@@ -93,11 +93,11 @@ def test_ml_jacobian_matches_central_differences(seed: int) -> None:
                 - contacts.problem_residuals(problem, down)[0]
             ) / (2 * step[k])
         # The hinge of a free-space point has a kink at the surface: compare away from it.
-        active = r[-len(free):] > 0
-        d_free = contacts.problem_residuals(problem, x)[0][-len(free):]
+        active = r[-len(free) :] > 0
+        d_free = contacts.problem_residuals(problem, x)[0][-len(free) :]
         near = np.abs(d_free) < 1e-3
         rows = np.ones(len(r), dtype=bool)
-        rows[len(r) - len(free):] = ~near | ~active
+        rows[len(r) - len(free) :] = ~near | ~active
         # Measured over these 8 cases: median relative error ~3e-10, largest ~1e-6.
         scale = np.abs(numeric) + 1e-3 * np.abs(numeric).max(axis=0)
         err = (np.abs(jac - numeric) / scale)[rows]
