@@ -44,6 +44,9 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 #: Default number of contacts (paper IV).
 DEFAULT_CONTACTS: int = 150
+#: With nML, how far outside the solid the fingertip centres must lie, in fingertip radii (the
+#: fingertip's own sphere less a quarter for the first-order distance; docs/nml/README.md).
+FREE_MARGIN: float = 0.75
 
 
 def explore(
@@ -70,7 +73,8 @@ def explore(
         strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``).
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
         method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``, or ``nML`` (which also keeps
-            the solid out of the fingertip centres, the contacts file's ``free_space``).
+            the solid :data:`FREE_MARGIN` fingertip radii away from the fingertip centres along
+            the run, the contacts file's ``free_space``).
         seed: seed of everything random (rough object, strategy, noise, fit, score).
         out_dir: output directory (default ``runs/<object>-<strategy>-seed<seed>``).
         render: also write ``scene.png`` from MuJoCo's offscreen renderer.
@@ -152,6 +156,7 @@ def _explore(
     )
     from hapticsim.fitting import fit
     from hapticsim.fitting.methods import uses_normals
+    from hapticsim.fitting.ml import MLOptions
     from hapticsim.geometry.mesh_solid import MeshSolid
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
@@ -203,10 +208,13 @@ def _explore(
             a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
         )
         bar.set_postfix_str("fitting")
-        # nML keeps the solid out of where the fingertips have been (their centres).
+        # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of
+        # the smallest fingertip radius (docs/nml/README.md: free space).
         free_space = near_contacts(run.free_space, a["points_clean"])
-        free = {"free": free_space} if method == "nML" else {}
-        result = fit(points, normals, method=method, rng=fit_seed, **free)
+        radius = min(f.tip_radius for f in run.explorer.scene.hand.description.fingers)
+        free = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
+        result = fit(points, normals, method=method, rng=fit_seed,
+                     **(free if method == "nML" else {}))  # fmt: skip
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])

@@ -10,12 +10,16 @@ One algorithm per module, like ``scipy.optimize._lsq``:
 - :mod:`~hapticsim.fitting.genetic`: the genetic algorithm (compiled:
   :mod:`~hapticsim.fitting._ga_compiled`);
 - :mod:`~hapticsim.fitting.hybrid`: H and nH (genetic algorithm, then least squares);
+- :mod:`~hapticsim.fitting.likelihood`, :mod:`~hapticsim.fitting.ml`: nML, a maximum-likelihood
+  fit for noisy data beyond the paper (compiled residuals in
+  :mod:`hapticsim.geometry._eof_compiled`);
 - :mod:`~hapticsim.fitting.methods`: method names and the default budget;
 - :mod:`~hapticsim.fitting.result`: :class:`FitResult`.
 """
 
 from hapticsim.fitting.driver import fit
-from hapticsim.fitting.methods import DEFAULT_BUDGET, METHODS
+from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, METHODS
+from hapticsim.fitting.ml import MLOptions
 from hapticsim.fitting.result import FitResult
 
-__all__ = ["DEFAULT_BUDGET", "METHODS", "FitResult", "fit"]
+__all__ = ["DEFAULT_BUDGET", "FIT_METHODS", "METHODS", "FitResult", "MLOptions", "fit"]

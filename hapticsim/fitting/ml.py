@@ -2,22 +2,27 @@
 
 The objective is :mod:`hapticsim.fitting.likelihood`'s (orthogonal distances and normal
 differences weighted by the sensor noise, a robust loss, weak priors on the tapers and shape
-exponents, free space); the search is the one of H and nH
+exponents, free space); the search reuses the one of nH
 (:func:`~hapticsim.fitting.hybrid.hybrid_search`: seed steps, genetic algorithm, probes,
-polish), with the same budget, counting and seeds. The steps:
+polish), with the same budget, counting and seeds. The steps (default :class:`MLOptions`):
 
-1. *search*: the hybrid search on the ML objective with sigma_N = the given noise or
-   :attr:`MLOptions.initial_noise`, and the length scale ``L = s / sqrt(3)`` from the data size
-   s (the largest distance of a contact from the centroid; a cube touched all round has
-   ``s ~ sqrt(3) a``);
-2. *re-estimate*: ``L = mean(a)`` of the result (SPEC §5's noise scale) and, when the noise was
+1. *basins*: nH's hybrid search on the paper EOF (``distance="tapered"``) with all but
+   :attr:`MLOptions.ml_budget` + :attr:`MLOptions.refine_budget` evaluations: its seed steps and
+   crowding genetic algorithm find the EOF's basins reliably, where a search on the ML objective
+   itself (``search="ml"``) stops in a wrong one far more often (``docs/nml/README.md``);
+2. *choice*: its best and up to :attr:`MLOptions.candidates` distinct solids of its last
+   generation take :attr:`MLOptions.probe_steps` Levenberg-Marquardt steps on the ML objective
+   (sigma_N the given noise or :attr:`MLOptions.initial_noise`, length scale ``L = s / sqrt(3)``
+   from the data size s, the largest distance of a contact from the centroid: a cube touched
+   all round has ``s ~ sqrt(3) a``), and the lowest is polished on it;
+3. *re-estimate*: ``L = mean(a)`` of the result (SPEC §5's noise scale) and, when the noise was
    not given, sigma_N from the residuals (:func:`~hapticsim.fitting.likelihood.estimate_noise`,
-   at least :attr:`MLOptions.noise_floor`);
-3. *refine*: least squares from the result under the new weights; steps 2-3 run
-   :attr:`MLOptions.refine` times, with :attr:`MLOptions.refine_budget` evaluations kept back
-   for them.
+   at least :attr:`MLOptions.noise_floor`), then least squares under the new weights;
+   :attr:`MLOptions.refine` rounds.
 
-The fit reports the SPEC §2 EOF of its estimate like every method, and the noise level it used.
+The estimate minimises the ML objective, not the EOF (the EOF only proposes starting basins). The
+fit reports the SPEC §2 EOF of its estimate like every method, and the noise level it used; its
+history holds the ML stages' cost (``sum(r^2) / n``), after the EOF search's evaluations.
 """
 
 from __future__ import annotations

@@ -457,6 +457,36 @@ def contact_residual_gradient(
     )  # fmt: skip
 
 
+# ---------------------------------------------------------------------------- frames
+@njit(**_INLINE)
+def _frame(rot: np.ndarray, center: np.ndarray) -> tuple:
+    """A pose as scalars: ``(c0, c1, c2, r00, r01, ..., r22)`` from R (3, 3) and x0 (3,)."""
+    return (
+        center[0], center[1], center[2], rot[0, 0], rot[0, 1], rot[0, 2], rot[1, 0], rot[1, 1],
+        rot[1, 2], rot[2, 0], rot[2, 1], rot[2, 2],
+    )  # fmt: skip
+
+
+@njit(**_INLINE)
+def _to_body(x: float, y: float, z: float, f: tuple) -> tuple:
+    """``(d0, d1, d2, bx, by, bz)``: the offset ``d = x - x0`` [world] and ``R^T d`` [body]."""
+    c0, c1, c2, r00, r01, r02, r10, r11, r12, r20, r21, r22 = f
+    d0, d1, d2 = x - c0, y - c1, z - c2
+    return (
+        d0, d1, d2, r00 * d0 + r10 * d1 + r20 * d2, r01 * d0 + r11 * d1 + r21 * d2,
+        r02 * d0 + r12 * d1 + r22 * d2,
+    )  # fmt: skip
+
+
+@njit(**_INLINE)
+def _rotate_to_body(x: float, y: float, z: float, f: tuple) -> tuple[float, float, float]:
+    """``R^T v`` of a world-frame direction v."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = f[3:]
+    return (
+        r00 * x + r10 * y + r20 * z, r01 * x + r11 * y + r21 * z, r02 * x + r12 * y + r22 * z
+    )  # fmt: skip
+
+
 # ---------------------------------------------------------------------------- ML residuals
 #: Layout of the settings array of the maximum-likelihood residuals (:func:`ml_residuals_posed`).
 #: Point weight 1/sigma_p [1/m]; normal weight 1/sigma_n; robust threshold c on the normalised
@@ -601,22 +631,13 @@ def ml_residuals_posed(
         a1, a2, a3 = a[b, 0], a[b, 1], a[b, 2]
         e1, e2 = eps[b, 0], eps[b, 1]
         tx, ty = taper[b, 0], taper[b, 1]
-        c0, c1, c2 = center[b, 0], center[b, 1], center[b, 2]
-        r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
-        r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
-        r20, r21, r22 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
+        f = _frame(rot[b], center[b])
         row = out[b]
         if with_normals:
             o_d, o_x, o_y, o_z = row[0:n], row[n : 2 * n], row[2 * n : 3 * n], row[3 * n : 4 * n]
             for i in range(n):
-                d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
-                bx = r00 * d0 + r10 * d1 + r20 * d2
-                by = r01 * d0 + r11 * d1 + r21 * d2
-                bz = r02 * d0 + r12 * d1 + r22 * d2
-                m0, m1, m2 = nx_w[i], ny_w[i], nz_w[i]
-                mx = r00 * m0 + r10 * m1 + r20 * m2
-                my = r01 * m0 + r11 * m1 + r21 * m2
-                mz = r02 * m0 + r12 * m1 + r22 * m2
+                bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)[3:]
+                mx, my, mz = _rotate_to_body(nx_w[i], ny_w[i], nz_w[i], f)
                 d, ex, ey, ez = ml_contact(bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty)
                 rd, rx, ry, rz = wp * d, wn * ex, wn * ey, wn * ez
                 w = robust_weight(rd * rd + rx * rx + ry * ry + rz * rz, c)[0]
@@ -624,10 +645,7 @@ def ml_residuals_posed(
         else:
             o_d = row[0:n]
             for i in range(n):
-                d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
-                bx = r00 * d0 + r10 * d1 + r20 * d2
-                by = r01 * d0 + r11 * d1 + r21 * d2
-                bz = r02 * d0 + r12 * d1 + r22 * d2
+                bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)[3:]
                 d = ml_contact(bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty)[0]
                 rd = wp * d
                 o_d[i] = robust_weight(rd * rd, c)[0] * rd
@@ -638,10 +656,7 @@ def ml_residuals_posed(
         row[base + 3] = we * (e2 - e0)
         base += ML_PRIORS
         for j in range(nf):
-            d0, d1, d2 = free[0, j] - c0, free[1, j] - c1, free[2, j] - c2
-            bx = r00 * d0 + r10 * d1 + r20 * d2
-            by = r01 * d0 + r11 * d1 + r21 * d2
-            bz = r02 * d0 + r12 * d1 + r22 * d2
+            bx, by, bz = _to_body(free[0, j], free[1, j], free[2, j], f)[3:]
             d = ml_contact(bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty)[0]
             row[base + j] = wf * max(margin - d, 0.0)
 
@@ -742,23 +757,14 @@ def residuals_posed(
         a1, a2, a3 = a[k, 0], a[k, 1], a[k, 2]
         e1, e2 = eps[k, 0], eps[k, 1]
         tx, ty = taper[k, 0], taper[k, 1]
-        c0, c1, c2 = center[k, 0], center[k, 1], center[k, 2]
-        r00, r01, r02 = rot[k, 0, 0], rot[k, 0, 1], rot[k, 0, 2]
-        r10, r11, r12 = rot[k, 1, 0], rot[k, 1, 1], rot[k, 1, 2]
-        r20, r21, r22 = rot[k, 2, 0], rot[k, 2, 1], rot[k, 2, 2]
+        f = _frame(rot[k], center[k])
         wlam = lam23 * (a1 + a2 + a3)
         row = out[k]
         for i in range(n):
-            d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
-            bx = r00 * d0 + r10 * d1 + r20 * d2
-            by = r01 * d0 + r11 * d1 + r21 * d2
-            bz = r02 * d0 + r12 * d1 + r22 * d2
+            bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)[3:]
             mx = my = mz = 0.0
             if with_normals:
-                m0, m1, m2 = nx_w[i], ny_w[i], nz_w[i]
-                mx = r00 * m0 + r10 * m1 + r20 * m2
-                my = r01 * m0 + r11 * m1 + r21 * m2
-                mz = r02 * m0 + r12 * m1 + r22 * m2
+                mx, my, mz = _rotate_to_body(nx_w[i], ny_w[i], nz_w[i], f)
             row[i] = contact_residual(
                 bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty, wlam, with_normals, tapered
             )
@@ -833,30 +839,20 @@ def jacobian_vector(
     rotvec_matrix(x[7], x[8], x[9], rot)
     jl = np.empty((3, 3))
     left_jacobian(x[7], x[8], x[9], jl)
-    r00, r01, r02 = rot[0, 0], rot[0, 1], rot[0, 2]
-    r10, r11, r12 = rot[1, 0], rot[1, 1], rot[1, 2]
-    r20, r21, r22 = rot[2, 0], rot[2, 1], rot[2, 2]
-    j00, j01, j02 = jl[0, 0], jl[0, 1], jl[0, 2]
-    j10, j11, j12 = jl[1, 0], jl[1, 1], jl[1, 2]
-    j20, j21, j22 = jl[2, 0], jl[2, 1], jl[2, 2]
-    rm = (r00, r01, r02, r10, r11, r12, r20, r21, r22)
-    jm = (j00, j01, j02, j10, j11, j12, j20, j21, j22)
+    f = _frame(rot, x[10:13])
+    rm = f[3:]
+    jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
+          jl[2, 2])  # fmt: skip
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
-    c0, c1, c2 = x[10], x[11], x[12]
     lam23 = 2.0 * lam / 3.0
     px_w, py_w, pz_w = points[0], points[1], points[2]
     nx_w, ny_w, nz_w = normals[0], normals[1], normals[2]
     for i in range(n):
-        d0, d1, d2 = px_w[i] - c0, py_w[i] - c1, pz_w[i] - c2
-        bx = r00 * d0 + r10 * d1 + r20 * d2
-        by = r01 * d0 + r11 * d1 + r21 * d2
-        bz = r02 * d0 + r12 * d1 + r22 * d2
+        d0, d1, d2, bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)
         m0 = m1 = m2 = mx = my = mz = 0.0
         if with_normals:
             m0, m1, m2 = nx_w[i], ny_w[i], nz_w[i]
-            mx = r00 * m0 + r10 * m1 + r20 * m2
-            my = r01 * m0 + r11 * m1 + r21 * m2
-            mz = r02 * m0 + r12 * m1 + r22 * m2
+            mx, my, mz = _rotate_to_body(m0, m1, m2, f)
         (r, gpx, gpy, gpz, gmx, gmy, gmz, ga1, ga2, ga3, ge1, ge2, gtx, gty) = (
             contact_residual_gradient(
                 bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty, lam23, with_normals, tapered
@@ -892,25 +888,17 @@ def ml_jacobian_vector(
     rotvec_matrix(x[7], x[8], x[9], rot)
     jl = np.empty((3, 3))
     left_jacobian(x[7], x[8], x[9], jl)
-    r00, r01, r02 = rot[0, 0], rot[0, 1], rot[0, 2]
-    r10, r11, r12 = rot[1, 0], rot[1, 1], rot[1, 2]
-    r20, r21, r22 = rot[2, 0], rot[2, 1], rot[2, 2]
-    rm = (r00, r01, r02, r10, r11, r12, r20, r21, r22)
+    f = _frame(rot, x[10:13])
+    rm = f[3:]
     jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
           jl[2, 2])  # fmt: skip
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
-    c0, c1, c2 = x[10], x[11], x[12]
     for i in range(n):
-        d0, d1, d2 = points[0, i] - c0, points[1, i] - c1, points[2, i] - c2
-        bx = r00 * d0 + r10 * d1 + r20 * d2
-        by = r01 * d0 + r11 * d1 + r21 * d2
-        bz = r02 * d0 + r12 * d1 + r22 * d2
+        d0, d1, d2, bx, by, bz = _to_body(points[0, i], points[1, i], points[2, i], f)
         m0 = m1 = m2 = mx = my = mz = 0.0
         if with_normals:
             m0, m1, m2 = normals[0, i], normals[1, i], normals[2, i]
-            mx = r00 * m0 + r10 * m1 + r20 * m2
-            my = r01 * m0 + r11 * m1 + r21 * m2
-            mz = r02 * m0 + r12 * m1 + r22 * m2
+            mx, my, mz = _rotate_to_body(m0, m1, m2, f)
         vals, gd, gx, gy, gz = ml_contact_gradient(
             bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty, with_normals
         )
@@ -956,10 +944,7 @@ def ml_jacobian_vector(
     r_out[base + 3], jac_t[4, base + 3] = we * (e2 - e0), we
     base += ML_PRIORS
     for j in range(nf):
-        d0, d1, d2 = free[0, j] - c0, free[1, j] - c1, free[2, j] - c2
-        bx = r00 * d0 + r10 * d1 + r20 * d2
-        by = r01 * d0 + r11 * d1 + r21 * d2
-        bz = r02 * d0 + r12 * d1 + r22 * d2
+        d0, d1, d2, bx, by, bz = _to_body(free[0, j], free[1, j], free[2, j], f)
         vals, gd, _, _, _ = ml_contact_gradient(
             bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty, False
         )
