@@ -1,4 +1,4 @@
-"""Benchmarks of hapticsim, printed as one JSON object on stdout.
+"""Benchmarks of hapticsim, printed as one JSON object on stdout (progress on stderr).
 
     python scripts/bench.py                  # all sections
     python scripts/bench.py --section fit    # EOF throughput and fit times only
@@ -6,19 +6,22 @@
 Sections (each a function ``section_<name>(args) -> dict``; add one by writing the function and
 listing it in ``SECTIONS``):
 
-- ``sim``: physics steps per second of the hand + object scene (a fingertip pressing) and wall
-  and CPU seconds of a 150-contact ``paper`` exploration per body
-  (:func:`hapticsim.sim.benchmark.benchmark_sim`; also ``scripts/bench_sim.py``).
-- ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend
-  (:func:`hapticsim.envs.benchmark.benchmark_env`; also ``scripts/bench_env.py``).
-- ``fit``: EOF evaluations per second for 150 contacts with normals, a population of P vectors
-  per call (the genetic algorithm's case) and one vector per call (scipy's least squares), best
-  and median of repeated timings; and the median seconds (wall clock and CPU) of a default fit
-  per method on the paper's four bodies with ``paper_dataset(truth, noise=0.1, rng=seed)``.
+- ``fit``: EOF evaluations per second for 150 contacts with normals (a population of P vectors per
+  call, the genetic algorithm's case; one vector per call; a Jacobian), and the median wall and CPU
+  seconds of a default fit per method over the paper's four bodies x ``--poses`` random poses x
+  sigma_N in {0, 0.02, 0.05, 0.1} (``paper_dataset``; the fast-loop issue's grid).
+- ``startup``: the first fit of a fresh Python process, with numba's cache cold (an empty cache
+  directory: everything compiles) and warm (the cache that the cold run wrote).
+- ``score``: one step's scoring in the environment (:class:`hapticsim.metrics.episode.
+  TruthScorer`: alpha, beta, epsilon, IoU, Chamfer) and one ``hapticsim score`` (100 000 samples).
+- ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend,
+  one process (resets counted and not), and ``make_vec(..., num_envs=2, "async")`` against one
+  process in the same run.
+- ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
+  exploration per body (:func:`hapticsim.sim.benchmark.benchmark_sim`).
 
-Timings on a shared machine vary with its load; the best of several repeats estimates the speed
-of an idle machine, the median what a user sees. CPU seconds of a single-threaded fit do not
-depend on the load much.
+The machine is shared: every section records the 1-minute load average beside its timings;
+medians are quoted, and CPU seconds (which other processes change less) beside wall seconds.
 """
 
 from __future__ import annotations
@@ -26,21 +29,26 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+NOISES = (0.0, 0.02, 0.05, 0.1)
+
+
+def _load() -> float:
+    return os.getloadavg()[0]
+
 
 def _rates(call: Callable[[], Any], per_call: int, seconds: float) -> dict[str, float]:
-    """Evaluations per second of `call` (which does `per_call` of them).
-
-    ``best`` and ``median`` over the wall-clock times of single calls, and ``cpu``: all calls
-    over the process CPU time they took (insensitive to other processes on the machine).
-    """
-    call()  # warm up (workspace, caches)
+    """Evaluations per second of `call` (which does `per_call` of them): ``best`` and ``median``
+    of single calls' wall times, ``cpu`` over the process CPU time of all calls."""
+    call()  # warm up
     times = []
     start, cpu_start = time.perf_counter(), time.process_time()
     while time.perf_counter() - start < seconds or len(times) < 5:
@@ -56,8 +64,6 @@ def _rates(call: Callable[[], Any], per_call: int, seconds: float) -> dict[str, 
 
 
 def section_fit(args: argparse.Namespace) -> dict[str, Any]:
-    from threadpoolctl import threadpool_limits
-
     from hapticsim.data.bodies import BODY_NAMES, get_body
     from hapticsim.data.synthetic import paper_dataset
     from hapticsim.fitting import DEFAULT_BUDGET, METHODS, fit
@@ -66,38 +72,40 @@ def section_fit(args: argparse.Namespace) -> dict[str, Any]:
 
     rng = np.random.default_rng(0)
     data = paper_dataset(get_body("tapered_box"), noise=0.1, rng=0, count=150)
-    objective = Objective(data.points, data.normals, lam=0.5, budget=2**62)
-    tapered = Objective(data.points, data.normals, lam=0.5, budget=2**62, distance="tapered")
+    objective = Objective(data.points, data.normals, lam=0.5, budget=2**62, distance="tapered")
     truth = get_body("tapered_box").to_vector()
     scale = np.r_[[0.005] * 3, [0.1] * 4, [0.3] * 3, [0.005] * 3]
-    throughput: dict[str, Any] = {"contacts": 150, "normals": True}
-    with threadpool_limits(limits=1, user_api="blas"):
-        for count in args.population:
-            vectors = objective.bounds.clip(truth + rng.normal(size=(count, 13)) * scale)
-            throughput[f"population_{count}"] = _rates(
-                lambda v=vectors: objective.eof(v), count, args.seconds
-            )
-        throughput[f"population_{count}_tapered_distance"] = _rates(
-            lambda v=vectors: tapered.eof(v), count, args.seconds
+    throughput: dict[str, Any] = {"contacts": 150, "normals": True, "load": _load()}
+    vectors = truth
+    for count in args.population:
+        vectors = objective.bounds.clip(truth + rng.normal(size=(count, 13)) * scale)
+        throughput[f"population_{count}"] = _rates(
+            lambda v=vectors: objective.eof(v), count, args.seconds
         )
-        one = vectors[:1]
-        throughput["single_vector"] = _rates(lambda: objective.eof(one), 1, args.seconds)
+    one = vectors[:1]
+    throughput["single_vector"] = _rates(lambda: objective.eof(one), 1, args.seconds)
+    contacts = objective.contacts
+    throughput["jacobian_per_second"] = _rates(
+        lambda: contacts.jacobian(one[0], 0.5, True), 1, args.seconds
+    )
 
     fits: dict[str, Any] = {}
-    for method in METHODS:
+    methods = METHODS if args.methods is None else tuple(args.methods)
+    for method in methods:
         wall, cpu, evals = [], [], []
-        for name in BODY_NAMES:
-            for seed in range(args.seeds):
-                pose = np.random.default_rng(seed)
-                truth_sq = get_body(name).transformed(
-                    random_rotation(pose), pose.normal(0.0, 0.1, 3)
-                )
-                contacts = paper_dataset(truth_sq, noise=0.1, rng=seed)
-                t0 = time.process_time()
-                result = fit(contacts.points, contacts.normals, method=method, rng=seed)
-                cpu.append(time.process_time() - t0)
-                wall.append(result.seconds)
-                evals.append(result.evaluations)
+        for noise in NOISES:
+            for name in BODY_NAMES:
+                for seed in range(args.poses):
+                    pose = np.random.default_rng(seed)
+                    truth_sq = get_body(name).transformed(
+                        random_rotation(pose), pose.normal(0.0, 0.1, 3)
+                    )
+                    contacts_ = paper_dataset(truth_sq, noise=noise, rng=seed)
+                    t0 = time.process_time()
+                    result = fit(contacts_.points, contacts_.normals, method=method, rng=seed)
+                    cpu.append(time.process_time() - t0)
+                    wall.append(result.seconds)
+                    evals.append(result.evaluations)
         fits[method] = {
             "median_seconds": float(np.median(wall)),
             "median_cpu_seconds": float(np.median(cpu)),
@@ -105,32 +113,113 @@ def section_fit(args: argparse.Namespace) -> dict[str, Any]:
             "median_evaluations": float(np.median(evals)),
             "fits": len(wall),
         }
+        print(f"bench fit: {method} done", file=sys.stderr)
     return {
         "eof_evaluations_per_second": throughput,
         "default_fit": {
             "budget": DEFAULT_BUDGET,
-            "data": f"paper_dataset(noise=0.1), 4 bodies x {args.seeds} seeds, random poses",
+            "data": f"paper_dataset, 4 bodies x {args.poses} poses x sigma_N {list(NOISES)}",
+            "load": _load(),
             "methods": fits,
         },
     }
 
 
-def section_env(args: argparse.Namespace) -> dict[str, Any]:
-    """Steps per second of hapticsim/HapticExplore-v0 on each backend (random touches)."""
-    from hapticsim.envs.benchmark import benchmark_env
+_FIRST_FIT = """
+import time
+t0 = time.perf_counter()
+from hapticsim.data.bodies import get_body
+from hapticsim.data.synthetic import paper_dataset
+from hapticsim.fitting import fit
+t1 = time.perf_counter()
+c = paper_dataset(get_body("cube"), noise=0.1, rng=0)
+fit(c.points, c.normals, method="nH", rng=0)
+t2 = time.perf_counter()
+fit(c.points, c.normals, method="nH", rng=1)
+t3 = time.perf_counter()
+print(t1 - t0, t2 - t1, t3 - t2)
+"""
 
-    return {b: benchmark_env(b, args.env_episodes) for b in ("analytic", "mujoco")}
+
+def section_startup(args: argparse.Namespace) -> dict[str, Any]:
+    """First-fit time of fresh processes with numba's cache cold and warm."""
+    out: dict[str, Any] = {"load": _load()}
+    with tempfile.TemporaryDirectory() as cache:
+        env = os.environ | {"NUMBA_CACHE_DIR": cache}
+        for label in ("cold", "warm"):
+            proc = subprocess.run(
+                [sys.executable, "-c", _FIRST_FIT], env=env, capture_output=True, text=True,
+                check=True,
+            )  # fmt: skip
+            imp, first, second = (float(v) for v in proc.stdout.split())
+            out[label] = {"import_seconds": imp, "first_fit_seconds": first,
+                          "second_fit_seconds": second}  # fmt: skip
+    return out
+
+
+def section_score(args: argparse.Namespace) -> dict[str, Any]:
+    """One environment step's scoring, and one `hapticsim score`."""
+    from hapticsim.data.bodies import get_body
+    from hapticsim.metrics import score
+    from hapticsim.metrics.episode import TruthScorer
+
+    truth = get_body("tapered_box")
+    estimates = [
+        truth.replace(a=truth.a * f, eps=e)
+        for f, e in ((1.05, (0.2, 0.3)), (0.95, (1.0, 1.0)), (1.1, (0.5, 1.5)))
+    ]
+    scorer = TruthScorer(truth, 10_000, 200, rng=0)
+    for e in estimates:
+        scorer.score(e)
+    step_wall, step_cpu = [], []
+    for _ in range(args.score_repeats):
+        for e in estimates:
+            t0, c0 = time.perf_counter(), time.process_time()
+            scorer.score(e)
+            step_wall.append(time.perf_counter() - t0)
+            step_cpu.append(time.process_time() - c0)
+    score(estimates[0], truth)
+    full = []
+    for e in estimates:
+        t0 = time.perf_counter()
+        score(e, truth)
+        full.append(time.perf_counter() - t0)
+    return {
+        "load": _load(),
+        "env_step_score": {
+            "samples": 10_000, "chamfer_samples": 200,
+            "median_seconds": float(np.median(step_wall)),
+            "median_cpu_seconds": float(np.median(step_cpu)),
+        },
+        "hapticsim_score": {"samples": 100_000, "median_seconds": float(np.median(full))},
+    }  # fmt: skip
+
+
+def section_env(args: argparse.Namespace) -> dict[str, Any]:
+    """Steps per second of hapticsim/HapticExplore-v0 (random touches), one and two processes."""
+    from hapticsim.envs.benchmark import benchmark_env, benchmark_vector_env
+
+    out: dict[str, Any] = {}
+    for backend in args.backends:
+        episodes = args.env_episodes if backend == "analytic" else args.mujoco_episodes
+        out[backend] = benchmark_env(backend, episodes) | {"load": _load()}
+        out[f"{backend}_vector"] = benchmark_vector_env(
+            backend, 2, args.vector_steps if backend == "analytic" else args.vector_steps // 4
+        ) | {"load": _load()}
+    return out
 
 
 def section_sim(args: argparse.Namespace) -> dict[str, Any]:
     """MuJoCo hand: physics steps per second and a 150-contact paper exploration per body."""
     from hapticsim.sim.benchmark import benchmark_sim
 
-    return benchmark_sim(count=150)
+    return benchmark_sim(count=150) | {"load": _load()}
 
 
 SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
     "fit": section_fit,
+    "startup": section_startup,
+    "score": section_score,
     "env": section_env,
     "sim": section_sim,
 }
@@ -138,17 +227,23 @@ SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="hapticsim benchmarks (JSON on stdout)")
-    parser.add_argument("--section", choices=(*SECTIONS, "all"), default="all")
+    parser.add_argument("--section", choices=(*SECTIONS, "all"), nargs="+", default=["all"])
     parser.add_argument("--seconds", type=float, default=2.0, help="timing per throughput case")
-    parser.add_argument("--population", type=int, nargs="+", default=[100, 200])
-    parser.add_argument("--seeds", type=int, default=3, help="fit: seeds per body")
-    parser.add_argument("--env-episodes", type=int, default=3, help="env: episodes per backend")
+    parser.add_argument("--population", type=int, nargs="+", default=[40, 100])
+    parser.add_argument("--poses", type=int, default=10, help="fit: random poses per body")
+    parser.add_argument("--methods", nargs="+", default=None, help="fit: methods (default all)")
+    parser.add_argument("--score-repeats", type=int, default=30)
+    parser.add_argument("--backends", nargs="+", default=["analytic", "mujoco"])
+    parser.add_argument("--env-episodes", type=int, default=20, help="env: analytic episodes")
+    parser.add_argument("--mujoco-episodes", type=int, default=5, help="env: MuJoCo episodes")
+    parser.add_argument("--vector-steps", type=int, default=1000, help="env: steps per variant")
     args = parser.parse_args(argv)
-    names = list(SECTIONS) if args.section == "all" else [args.section]
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
-    out: dict[str, Any] = {"load_average_1min": load, "cpus": os.cpu_count()}
+    names = list(SECTIONS) if "all" in args.section else args.section
+    out: dict[str, Any] = {"load_average_1min": _load(), "cpus": os.cpu_count()}
     for name in names:
         out[name] = SECTIONS[name](args)
+        print(f"bench: {name} done", file=sys.stderr)
+    out["load_average_1min_end"] = _load()
     sys.stdout.write(json.dumps(out, indent=2) + "\n")
     return 0
 

@@ -8,6 +8,9 @@ from typing import Any
 
 from hapticsim.errors import InvalidInputError
 
+#: Steps before timing a vector environment (its workers load the compiled code first).
+WARMUP_STEPS: int = 20
+
 
 def benchmark_env(
     backend: str = "analytic",
@@ -29,7 +32,8 @@ def benchmark_env(
 
     Returns:
         ``steps_per_second`` (wall clock, resets excluded), ``steps_per_cpu_second`` (process
-        CPU time, which a loaded machine changes less), ``reset_seconds`` per episode, mean
+        CPU time, which a loaded machine changes less), the same two with the resets counted
+        (``..._with_resets``: what a training loop sees), ``reset_seconds`` per episode, mean
         ``seconds_per_step`` of the touch, the fit and the metrics, and the fraction of steps
         that ran a full fit.
     """
@@ -61,8 +65,9 @@ def benchmark_env(
             done = terminated or truncated
         if progress:
             print(f"bench env {backend}: episode {ep + 1}/{episodes}", file=sys.stderr)
-    wall = time.perf_counter() - wall0 - reset_wall
-    cpu = time.process_time() - cpu0 - reset_cpu
+    wall_all = time.perf_counter() - wall0
+    cpu_all = time.process_time() - cpu0
+    wall, cpu = wall_all - reset_wall, cpu_all - reset_cpu
     env.close()
     return {
         "backend": backend,
@@ -71,6 +76,8 @@ def benchmark_env(
         "steps": steps,
         "steps_per_second": steps / wall,
         "steps_per_cpu_second": steps / cpu,
+        "steps_per_second_with_resets": steps / wall_all,
+        "steps_per_cpu_second_with_resets": steps / cpu_all,
         "reset_seconds": reset_wall / episodes,
         "seconds_per_step": {k: v / steps for k, v in parts.items()},
         "full_fit_fraction": full / steps,
@@ -173,3 +180,73 @@ def benchmark_touch(
         "touch_statuses": statuses,
         "load_average": {"before": load, "after": list(os.getloadavg()) if load else None},
     }  # fmt: skip
+
+
+def benchmark_vector_env(
+    backend: str = "analytic",
+    num_envs: int = 2,
+    steps: int = 400,
+    seed: int = 0,
+    **env_kwargs: Any,
+) -> dict[str, Any]:
+    """Steps per second of ``gym.make_vec(..., vectorization_mode="async")`` against one process.
+
+    Both are timed here, one after the other, on the same number of environment steps (resets
+    included, as the vector environment resets itself), so their ratio is measured under the same
+    machine load.
+
+    Args:
+        backend: ``"analytic"`` or ``"mujoco"``.
+        num_envs: environments (worker processes) of the vector environment, >= 1.
+        steps: environment steps to time in each (``steps / num_envs`` vector steps).
+        seed: seed of the environments and actions.
+        **env_kwargs: further environment settings.
+
+    Returns:
+        ``single_steps_per_second``, ``vector_steps_per_second`` and their ``speedup``.
+    """
+    import gymnasium as gym
+
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
+
+    if num_envs < 1 or steps < num_envs:
+        raise InvalidInputError(
+            f"need num_envs >= 1 and steps >= num_envs, got {num_envs}, {steps}"
+        )
+    register_envs()
+    single = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
+    single.action_space.seed(seed)
+    single.reset(seed=seed)
+    for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
+        single.step(single.action_space.sample())
+    single.reset(seed=seed)
+    start = time.perf_counter()
+    for _ in range(steps):
+        _, _, terminated, truncated, _ = single.step(single.action_space.sample())
+        if terminated or truncated:
+            single.reset()
+    single_rate = steps / (time.perf_counter() - start)
+    single.close()
+    vec = gym.make_vec(
+        HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async", backend=backend,
+        **env_kwargs,
+    )  # fmt: skip
+    vec.action_space.seed(seed)
+    vec.reset(seed=seed)
+    for _ in range(WARMUP_STEPS):  # each worker loads the compiled code in its first fits
+        vec.step(vec.action_space.sample())
+    rounds = steps // num_envs
+    start = time.perf_counter()
+    for _ in range(rounds):
+        vec.step(vec.action_space.sample())
+    vector_rate = rounds * num_envs / (time.perf_counter() - start)
+    vec.close()
+    return {
+        "backend": backend,
+        "num_envs": num_envs,
+        "steps": int(rounds * num_envs),
+        "single_steps_per_second": float(single_rate),
+        "vector_steps_per_second": float(vector_rate),
+        "speedup": float(vector_rate / single_rate),
+        "actions": "random",
+    }

@@ -64,6 +64,10 @@ class HybridOptions:
         probe_steps: Levenberg-Marquardt steps of the probe (all starts at once), >= 1.
         seed_steps: Levenberg-Marquardt steps on all seeds before the genetic algorithm
             (:func:`~hapticsim.fitting.least_squares.multi_start_run`), >= 0.
+        restarts: most further rounds (genetic algorithm, probe, polish) from the stepped seeds
+            with a fresh random stream, while the budget allows, >= 0.
+        restart_fraction: a restart needs at least this share of the whole budget left, in
+            (0, 1].
         genetic: settings of the genetic algorithm.
     """
 
@@ -71,6 +75,8 @@ class HybridOptions:
     polish: int = 4
     probe_steps: int = 8
     seed_steps: int = 3
+    restarts: int = 3
+    restart_fraction: float = 0.2
     genetic: GeneticOptions = field(default_factory=GeneticOptions)
 
     def __post_init__(self) -> None:
@@ -82,6 +88,11 @@ class HybridOptions:
             raise InvalidInputError(
                 f"`probe_steps` must be >= 1 and `seed_steps` >= 0, got {self.probe_steps} and "
                 f"{self.seed_steps}"
+            )
+        if self.restarts < 0 or not 0.0 < self.restart_fraction <= 1.0:
+            raise InvalidInputError(
+                f"`restarts` must be >= 0 and `restart_fraction` in (0, 1], got {self.restarts} "
+                f"and {self.restart_fraction}"
             )
 
 
@@ -127,6 +138,20 @@ def hybrid_search(
     opt = HybridOptions() if options is None else options
     if opt.seed_steps and objective.remaining >= len(seeds) * (1 + STEP_EVALUATIONS):
         seeds, _ = multi_start_run(objective, seeds, opt.seed_steps)
+    run, status = _round(objective, seeds, rng, opt)
+    floor = max(opt.restart_fraction * objective.budget, 2 * MIN_RUN_EVALUATIONS)
+    for _ in range(opt.restarts):
+        if objective.remaining < floor:
+            break
+        _, status = _round(objective, seeds, rng, opt)
+    return run, status
+
+
+def _round(
+    objective: Objective, seeds: Array, rng: np.random.Generator, opt: HybridOptions
+) -> tuple[GeneticRun, str]:
+    """One round with what is left of the budget: the genetic algorithm from `seeds`, probes
+    from the distinct individuals of its last generation, the polish from the best probe."""
     ga_budget = max(1, int(opt.ga_fraction * objective.remaining))
     if objective.remaining - ga_budget < MIN_RUN_EVALUATIONS:
         ga_budget = objective.remaining
