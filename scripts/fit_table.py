@@ -18,10 +18,11 @@ import argparse
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
+
+from hapticsim.parallel import parallel_map
 
 METHODS = ("LS", "H", "nLS", "nH", "oracle")
 
@@ -118,8 +119,8 @@ def main(argv: list[str] | None = None) -> int:
         for seed in range(args.seeds)
     ]
     start = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=args.processes) as pool:
-        rows = [row for chunk in pool.map(_task, tasks) for row in chunk]
+    chunks = parallel_map(_task, tasks, args.processes, "fit table")
+    rows = [row for chunk in chunks for row in chunk]
     table = _summary(rows, methods, noises)
     if args.rows:
         with open(args.rows, "w") as fh:

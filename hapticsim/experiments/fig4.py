@@ -44,7 +44,7 @@ class Fig4Config:
         methods: methods, columns of the picture.
         count: contacts per data set (paper: 150).
         noise: relative noise sigma_N (paper: 0.1).
-        budget: EOF evaluations of every fit; None for ``fitting.methods.DEFAULT_BUDGET``.
+        budget: EOF evaluations of every fit; None for ``fitting.methods.PAPER_BUDGET``.
         runs: data sets (fresh noise) per body.
         seed: root seed of the sweep.
     """
@@ -59,12 +59,12 @@ class Fig4Config:
 
     def __post_init__(self) -> None:
         from hapticsim.data.bodies import BODY_NAMES
-        from hapticsim.fitting.methods import DEFAULT_BUDGET
+        from hapticsim.fitting.methods import PAPER_BUDGET
 
         if self.bodies is None:
             object.__setattr__(self, "bodies", tuple(BODY_NAMES))
         if self.budget is None:
-            object.__setattr__(self, "budget", int(DEFAULT_BUDGET))
+            object.__setattr__(self, "budget", int(PAPER_BUDGET))
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "methods", tuple(self.methods))
         if not self.bodies:

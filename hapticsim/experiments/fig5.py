@@ -25,7 +25,7 @@ from hapticsim.experiments.tables import write_csv
 from hapticsim.experiments.trial import METRICS, Trial, TrialResult, make_trial, run_trial
 from hapticsim.parallel import parallel_map
 
-#: Budgets of the n sweep as fractions of ``DEFAULT_BUDGET`` (geometric grid, factor 2). The
+#: Budgets of the n sweep as fractions of ``PAPER_BUDGET`` (geometric grid, factor 2). The
 #: small budgets are cheap and show where each method converges; the largest is Fig. 4's.
 BUDGET_FRACTIONS: tuple[float, ...] = tuple(2.0**-k for k in range(7, -1, -1))
 #: Measures summarised along the sweeps (the Chamfer distance is left out: Fig. 4 only).
@@ -45,11 +45,11 @@ class Fig5Config:
         seed: root seed.
         budget_body: body of the n sweep (paper: cylinder).
         budgets: budgets n of the n sweep, increasing; None for
-            ``BUDGET_FRACTIONS * DEFAULT_BUDGET``.
+            ``BUDGET_FRACTIONS * PAPER_BUDGET``.
         budget_noise: sigma_N of the n sweep (paper: 0.1).
         noise_body: body of the noise sweep (paper: cube).
         noises: sigma_N of the noise sweep, increasing, > 0 (log axis).
-        noise_budget: budget of the noise sweep; None for ``DEFAULT_BUDGET``.
+        noise_budget: budget of the noise sweep; None for ``PAPER_BUDGET``.
     """
 
     methods: tuple[str, ...] = ("LS", "H", "nLS", "nH")
@@ -64,13 +64,13 @@ class Fig5Config:
     noise_budget: int | None = None
 
     def __post_init__(self) -> None:
-        from hapticsim.fitting.methods import DEFAULT_BUDGET
+        from hapticsim.fitting.methods import PAPER_BUDGET
 
         if self.budgets is None:
-            budgets = tuple(max(1, round(f * DEFAULT_BUDGET)) for f in BUDGET_FRACTIONS)
+            budgets = tuple(max(1, round(f * PAPER_BUDGET)) for f in BUDGET_FRACTIONS)
             object.__setattr__(self, "budgets", budgets)
         if self.noise_budget is None:
-            object.__setattr__(self, "noise_budget", int(DEFAULT_BUDGET))
+            object.__setattr__(self, "noise_budget", int(PAPER_BUDGET))
         object.__setattr__(self, "methods", tuple(self.methods))
         object.__setattr__(self, "budgets", tuple(self.budgets))
         object.__setattr__(self, "noises", tuple(self.noises))

@@ -48,8 +48,8 @@ def reproduce(
         runs: data sets (fresh noise) per setting, >= 1.
         seed: root seed, >= 0; every trial's seed derives from it and the trial's settings.
         workers: processes, default ``os.cpu_count()``; results do not depend on it.
-        budget: budget of Fig. 4 and of the noise sweep; default ``DEFAULT_BUDGET``.
-        budgets: budgets of the n sweep; default fractions of ``DEFAULT_BUDGET``.
+        budget: budget of Fig. 4 and of the noise sweep; default ``PAPER_BUDGET``.
+        budgets: budgets of the n sweep; default fractions of ``PAPER_BUDGET``.
         noises: sigma_N of the noise sweep; default :data:`fig5.NOISE_LEVELS`.
         results: also write this Markdown report (e.g. ``RESULTS.md``), with the pictures
             copied to `figures_dir`.

@@ -19,7 +19,7 @@ from hapticsim._validate import (
 from hapticsim.constants import DEFAULT_LAMBDA, MAX_BUDGET
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
-from hapticsim.fitting.initial import paper_initial, seed_vectors
+from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_vectors
 from hapticsim.fitting.least_squares import least_squares_run
 from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, HYBRID_METHODS, uses_normals
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
@@ -32,6 +32,10 @@ Array = NDArray[np.float64]
 
 #: Default of :func:`fit`'s `distance`.
 DEFAULT_DISTANCE: str = "tapered"
+#: Smallest budget whose hybrid fits add :func:`~hapticsim.fitting.initial.random_frame_seeds`
+#: to the data-derived seeds (their three Levenberg-Marquardt steps cost about 1000 evaluations;
+#: the environment's full fits, at 3000, keep the data-derived seeds only).
+RANDOM_FRAMES_BUDGET: int = 6000
 #: Singular-value ratio of the centred contacts below which they count as one line.
 LINE_TOLERANCE: float = 1e-6
 
@@ -132,6 +136,8 @@ def fit(
     elif method in HYBRID_METHODS:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
         seeds = seed_vectors(pts, objective.normals, warm)
+        if n_evals >= RANDOM_FRAMES_BUDGET:  # the budget pays for seeds in more orientations
+            seeds = np.concatenate([seeds, random_frame_seeds(pts, objective.normals)])
         _, status = hybrid_search(objective, seeds, gen, HybridOptions())
     else:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
