@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from hapticsim.errors import InvalidInputError
+from hapticsim.fitting import DEFAULT_BUDGET
 from hapticsim.geometry import Superquadric
 from hapticsim.suites import load_suite
 from hapticsim.suites.cases import TIMING_KEYS, CaseTask, run_case
@@ -33,7 +34,7 @@ def test_a_fit_case_is_deterministic_and_complete() -> None:
     assert m["epsilon"] == pytest.approx(m["alpha"] + m["beta"])
     # nH on the cylinder at sigma_N = 0.05: epsilon 0.05-0.15 measured over the suite's runs.
     assert m["epsilon"] < 0.3
-    assert m["fitter"] == "nH" and m["evaluations"] <= 5000
+    assert m["fitter"] == "nH" and m["evaluations"] <= DEFAULT_BUDGET
     assert Superquadric.from_dict(first["truth"]) == Superquadric(
         a=(0.03, 0.03, 0.06), eps=(0.1, 1)
     )
