@@ -9,7 +9,7 @@ import pytest
 from hapticsim.data.bodies import get_body
 from hapticsim.data.synthetic import paper_dataset
 from hapticsim.errors import InvalidInputError
-from hapticsim.fitting import fit
+from hapticsim.fitting import DEFAULT_BUDGET, fit
 from hapticsim.fitting.likelihood import Likelihood, contact_distances, estimate_noise
 from hapticsim.fitting.ml import MLOptions, ml_objective, with_options
 from hapticsim.geometry import Superquadric
@@ -34,7 +34,7 @@ def test_nml_recovers_a_tapered_box_from_clean_sparse_contacts() -> None:
     # Measured: epsilon 0.001, estimated noise at the floor 0.005.
     assert _epsilon(result.superquadric, truth) < 0.015
     assert result.method == "nML" and result.noise == pytest.approx(0.005)
-    assert result.evaluations <= 5000
+    assert result.evaluations <= DEFAULT_BUDGET
 
 
 # Measured epsilon at sigma_N = 0.1 (pose and data seed as given, fit seed the same):
