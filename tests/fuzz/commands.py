@@ -13,6 +13,7 @@ so that hundreds of invocations take minutes.
 from __future__ import annotations
 
 import argparse
+import json
 from dataclasses import dataclass, field
 
 from hypothesis import strategies as st
@@ -28,6 +29,9 @@ from tests.fuzz.inputs import (
     floats,
     ints,
     json_files,
+    json_values,
+    mostly,
+    mutated_bytes,
     out_paths,
 )
 
@@ -139,6 +143,98 @@ def reproduce_cases(draw: st.DrawFn) -> Case:
     return Case(tuple(argv))
 
 
+_BASE_RESULTS: dict[str, bytes] = {}
+
+
+def base_results() -> bytes:
+    """A small, real ``suite run`` results file (two fit-v1 cases), made once per process."""
+    if "fit" not in _BASE_RESULTS:
+        from hapticsim.suites.runner import results_text, run_suite
+
+        results = run_suite("fit-v1", cases="cube/nLS/noise=0.05/run=[01]", workers=1,
+                            progress=False)  # fmt: skip
+        _BASE_RESULTS["fit"] = results_text(results).encode()
+    return _BASE_RESULTS["fit"]
+
+
+@st.composite
+def results_files(draw: st.DrawFn, stem: str) -> FileSpec:
+    """A suite results file: the real one, one with JSON values replaced, or broken bytes."""
+    kind = draw(mostly(st.just("json"), st.sampled_from(["dir", "missing", "values"])))
+    if kind == "dir":
+        return FileSpec(f"{stem}.json", directory=True)
+    if kind == "missing":
+        return FileSpec(f"{stem}.json")
+    data = base_results()
+    if kind == "values" or draw(st.booleans()):
+        value = json.loads(data)
+        for _ in range(draw(st.integers(1, 3))):
+            path = draw(st.sampled_from(_RESULT_PATHS))
+            node = value
+            for key in path[:-1]:
+                node = node[key] if isinstance(node, dict) and key in node else None
+                if node is None:
+                    break
+            if isinstance(node, dict):
+                if draw(st.booleans()):
+                    node.pop(path[-1], None)
+                else:
+                    node[path[-1]] = draw(json_values)
+        data = json.dumps(value, allow_nan=True).encode()
+    return FileSpec(f"{stem}.json", draw(mutated_bytes(data)))
+
+
+#: Places in a results file the fuzzer replaces or removes.
+_RESULT_PATHS: tuple[tuple[str, ...], ...] = (
+    ("format",), ("format_version",), ("suite",), ("suite", "id"), ("suite", "version"),
+    ("cases",), ("summary",), ("groups",), ("selection",),
+)  # fmt: skip
+
+
+@st.composite
+def suite_cases(draw: st.DrawFn) -> Case:
+    what = draw(st.sampled_from(["list", "run", "run", "compare", "compare", ""]))
+    if what == "list":
+        return Case(("suite", "list", *_options(draw, {})))
+    if what == "compare":
+        baseline, results = draw(results_files("baseline")), draw(results_files("results"))
+        argv = ["suite", "compare", baseline.name, results.name] + _options(
+            draw, {"--tolerance": floats((0.0, 0.1)), "--alpha": floats((0.001, 0.5))}
+        )
+        argv += [flag for flag in ("--json", "--changed") if draw(st.booleans())]
+        files = (baseline,) if results.name == baseline.name else (baseline, results)
+        return Case(tuple(argv), files)
+    if what == "":
+        return Case(("suite", *draw(st.lists(st.sampled_from(JUNK_TOKENS), max_size=2))))
+    # run: a cheap selection of a shipped suite, another name, or a (mutated) suite file
+    name = draw(st.sampled_from(["fit-v1", "fit-v1", "fit-v1", "explore-v1", "fit-v9", "file"]))
+    files: tuple[FileSpec, ...] = ()
+    if name == "file":
+        from hapticsim.suites.suite import load_suite
+
+        text = load_suite("fit-v1").path.read_bytes()
+        files = (FileSpec("mine.toml", draw(mutated_bytes(text))),)
+        name = "mine.toml"
+    pattern = {"fit-v1": "cube/nH/noise=0.05/run=0", "explore-v1": "cube/patch/noise=0/run=0"}
+    argv = ["suite", "run", name, "--quiet", "--out", draw(out_paths("results", ".json"))]
+    argv += ["--cases", draw(mostly(st.just(pattern.get(name, "*/nH/noise=0/run=0")),
+                                    st.sampled_from(["*", "[", "nothing/*", ""])))]  # fmt: skip
+    argv += _options(
+        draw,
+        {
+            "--workers": st.sampled_from(["1", "1", "2", "0", "x"]),
+            "--fitter": st.sampled_from(
+                ["hapticsim.fitting:fit", "math:sqrt", "nope:fit", "hapticsim", "json:loads"]
+            ),  # fmt: skip
+            "--policy": st.sampled_from(["hapticsim.envs.policies:RandomPolicy", "nope:P"]),
+        },
+    )
+    if draw(st.integers(0, 9)) == 0:  # an unreachable Dask scheduler, found out quickly
+        argv = [a for a in argv if a != "--workers"]
+        argv += ["--scheduler", "tcp://127.0.0.1:9", "--scheduler-timeout", "0.5"]
+    return Case(tuple(argv), files)
+
+
 @st.composite
 def generic_cases(draw: st.DrawFn, command: str) -> Case:
     """Junk tokens after a command this module has no strategy for yet."""
@@ -153,6 +249,7 @@ COMMANDS: dict[str, st.SearchStrategy[Case]] = {
     "synth": synth_cases(),
     "explore": explore_cases(),
     "reproduce": reproduce_cases(),
+    "suite": suite_cases(),
 }
 
 

@@ -2,7 +2,8 @@
 
 The contract (issue 14's property): exit 0 with valid JSON on stdout, or exit 2 with exactly
 one line on stderr (and nothing on stdout); never a traceback; no output file unless the run
-succeeded, and never a temporary file left behind.
+succeeded, and never a temporary file left behind. ``suite compare`` may also exit 1 (a
+regression) and prints a table unless given ``--json`` (SPEC §6).
 
 :func:`run_cli` calls :func:`hapticsim.cli.main` with the file descriptors 1 and 2 redirected
 to temporary files, so what C libraries (MuJoCo) print is caught as well as Python's writes,
@@ -62,11 +63,17 @@ class Outcome:
         temporaries = [p for p in self.created if p.endswith(".tmp")]
         if temporaries:
             found.append(f"temporary files left: {temporaries}")
-        if self.code == 0:
-            try:
-                json.loads(self.stdout)
-            except ValueError:
-                found.append(f"exit 0 without valid JSON on stdout: {self.stdout[:200]!r}")
+        # `suite compare` exits 1 on a regression (SPEC §6) and prints a table unless --json
+        compare = self.argv[:2] == ["suite", "compare"]
+        if self.code == 0 or (compare and self.code == 1):
+            if compare and "--json" not in self.argv:
+                if not self.stdout.strip():
+                    found.append("suite compare printed no table")
+            else:
+                try:
+                    json.loads(self.stdout)
+                except ValueError:
+                    found.append(f"exit 0 without valid JSON on stdout: {self.stdout[:200]!r}")
         elif self.code == EXIT_BAD_INPUT:
             lines = visible_lines(self.stderr)
             if len(lines) != 1:
@@ -75,7 +82,7 @@ class Outcome:
                 found.append(f"exit 2 with output on stdout: {self.stdout[:200]!r}")
         elif self.code is not None:
             found.append(f"exit status {self.code}: {self.stderr[-300:]!r}")
-        if self.code != 0 and (self.created or self.changed):
+        if self.code not in (0, 1 if compare else 0) and (self.created or self.changed):
             found.append(f"failed run wrote files: {self.created + self.changed}")
         return found
 

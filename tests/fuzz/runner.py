@@ -14,6 +14,8 @@ from tests.fuzz.commands import EXISTING_DIR, Case
 from tests.fuzz.harness import Outcome, run_cli
 from tests.fuzz.inputs import materialise
 
+#: Subcommands of ``suite`` counted apart.
+SUITE_COMMANDS = ("list", "run", "compare")
 #: Problems (:meth:`Outcome.problems`) that mean a traceback.
 TRACEBACK_PROBLEMS = ("exception escaped main", "traceback printed")
 
@@ -57,8 +59,11 @@ def run_case(case: Case, tally: Tally | None = None) -> Outcome:
         shutil.rmtree(root, ignore_errors=True)
     if tally is not None:
         tally.invocations += 1
-        tally.by_command[case.argv[0]] += 1
-        tally.by_status[f"{case.argv[0]} {outcome.code}"] += 1
+        command = case.argv[0]
+        if command == "suite" and len(case.argv) > 1 and case.argv[1] in SUITE_COMMANDS:
+            command = f"suite {case.argv[1]}"
+        tally.by_command[command] += 1
+        tally.by_status[f"{command} {outcome.code}"] += 1
         tally.seconds += time.perf_counter() - start
         if outcome.problems():
             tally.failures.append(outcome.to_dict())

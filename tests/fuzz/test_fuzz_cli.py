@@ -12,7 +12,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import seed as hypothesis_seed
 
-from tests.fuzz.commands import COMMANDS, Case, cases, command_names
+from tests.fuzz.commands import COMMANDS, Case, base_results, cases, command_names
+from tests.fuzz.inputs import FileSpec
 from tests.fuzz.runner import Tally, run_case
 
 _SETTINGS = dict(
@@ -56,6 +57,20 @@ def test_explore_and_reproduce_keep_the_contract() -> None:
     argv = ("explore", "--object", "ellipsoid", "--strategy", "patch", "--count", "20", "--out=r")
     outcome = run_case(Case(argv))
     assert outcome.code == 0 and not outcome.problems(), outcome.to_dict()
+
+
+def test_suite_keeps_the_contract() -> None:
+    tally = _fuzz(("suite",), 12, derandomize=True)
+    assert tally.invocations == 12
+    # the derandomised cases stop at checks: a valid run and comparison too
+    results = FileSpec("base.json", base_results())
+    for case in (
+        Case(("suite", "run", "fit-v1", "--cases", "cube/nH/noise=0.05/run=0", "--workers", "1",
+              "--quiet", "--out", "r.json")),
+        Case(("suite", "compare", "base.json", "base.json", "--json"), (results,)),
+    ):  # fmt: skip
+        outcome = run_case(case)
+        assert outcome.code == 0 and not outcome.problems(), outcome.to_dict()
 
 
 @pytest.mark.parametrize("command", [c for c in command_names() if c not in COMMANDS])
