@@ -130,9 +130,11 @@ def _cmd_score(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
-    from hapticsim.data.io import FREE_SPACE_KEY, read_contacts, write_json
+    from hapticsim.data.io import FREE_SPACE_KEY, check_output_path, read_contacts, write_json
     from hapticsim.fitting import fit
 
+    if args.out:
+        check_output_path(args.out)  # before the fit, not after it
     contacts = read_contacts(args.contacts)
     extra: dict = {}
     if args.noise is not None or args.free_space:

@@ -18,7 +18,7 @@ from hapticsim.data.synthetic import paper_dataset
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.fitting import METHODS, FitResult, fit
 from hapticsim.fitting import objective as objective_module
-from hapticsim.geometry import Superquadric
+from hapticsim.geometry import Superquadric, rotvec_to_matrix
 from hapticsim.metrics import volume_overlap
 from tests.fitting.conftest import posed, surface_contacts
 
@@ -29,6 +29,14 @@ def _epsilon(estimate: Superquadric, truth: Superquadric) -> float:
     # 20 000 samples: standard error of alpha, beta <= 0.0035.
     overlap = volume_overlap(estimate, truth, samples=20_000, rng=0)
     return overlap.alpha + overlap.beta
+
+
+def _eof(sq: Superquadric, data: Contacts) -> float:
+    """SPEC §2 EOF of `sq` on the contacts (points and normals), lambda 0.5."""
+    from hapticsim.geometry.eof import error_of_fit
+
+    return float(error_of_fit(data.points, data.normals, sq.a, sq.eps, sq.taper, sq.rotation,
+                              sq.center))  # fmt: skip
 
 
 def _paper_data(name: str, noise: float, seed: int) -> tuple[Superquadric, Contacts]:
@@ -45,10 +53,13 @@ def test_nh_recovers_a_tapered_box_from_clean_sparse_contacts() -> None:
 
 
 def test_nh_on_noisy_contacts_is_close_to_the_truth() -> None:
-    truth, data = _paper_data("cube", 0.05, 2)
+    truth, data = _paper_data("cube", 0.1, 0)
     result = fit(data.points, data.normals, method="nH", rng=0)
-    # Measured: epsilon 0.074 (the oracle, nLS from the truth: 0.072).
-    assert _epsilon(result.superquadric, truth) < 0.12
+    # Measured (scripts/measure_bounds.py, cube, sigma_N 0.1, data seed 0): nH 0.075-0.101 over
+    # fit seeds 0-9 (0.100 with seed 0), the oracle (nLS from the truth) 0.075; what a weaker
+    # fitter scores on the same data: nLS 0.323, nH at budget 300 0.159, the initial estimate
+    # 0.40. The limit 0.14 keeps a 0.04 margin above nH and fails all three.
+    assert _epsilon(result.superquadric, truth) < 0.14
 
 
 def test_ls_recovers_an_ellipsoid_from_contacts_all_around() -> None:
@@ -60,12 +71,17 @@ def test_ls_recovers_an_ellipsoid_from_contacts_all_around() -> None:
     assert result.status == "converged"
 
 
-def test_warm_start_keeps_a_good_estimate() -> None:
-    truth, data = _paper_data("cylinder", 0.02, 3)
-    result = fit(data.points, data.normals, method="nLS", initial=truth, budget=2000)
-    # Measured: epsilon 0.014 in 280 evaluations.
-    assert _epsilon(result.superquadric, truth) < 0.05
-    assert result.evaluations < 2000
+def test_warm_start_is_refined_not_returned() -> None:
+    truth, data = _paper_data("cube", 0.02, 3)
+    turn = rotvec_to_matrix(np.radians(8.0) * np.array([0.0, 0.6, 0.8]))
+    warm = truth.replace(a=truth.a * 1.25, rotation=turn @ truth.rotation,
+                         center=truth.center + 0.004)  # fmt: skip
+    result = fit(data.points, data.normals, method="nLS", initial=warm, budget=2000)
+    # Measured (scripts/measure_bounds.py): the warm start scores 0.482; nLS from it 0.028 in
+    # 441 evaluations (converged); nLS from the paper's initial estimate instead 0.361; the
+    # oracle 0.025. The limit 0.08 fails a fitter that returns or ignores its warm start.
+    assert _epsilon(result.superquadric, truth) < 0.08
+    assert result.evaluations < 2000 and result.eof < 0.1 * _eof(warm, data)
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -178,6 +194,24 @@ def test_cli_fit_prints_the_spec_json(tmp_path: Path, capsys: pytest.CaptureFixt
     assert {"superquadric", "method", "eof", "evaluations", "seconds"} <= set(printed)
     assert printed["method"] == "nH" and printed["evaluations"] <= 400
     assert json.loads(out_file.read_text()) == printed
+
+
+def test_cli_fit_out_into_a_missing_directory_fails_before_the_fit(
+    tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import hapticsim.fitting
+    from hapticsim.cli import main
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("the fit ran before --out was checked")
+
+    monkeypatch.setattr(hapticsim.fitting, "fit", must_not_run)
+    _, data = _paper_data("cube", 0.05, 0)
+    path = write_contacts(tmp_path / "c.npz", data)
+    assert main(["fit", str(path), "--out", str(tmp_path / "missing" / "fit.json")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "does not exist" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.npz"]
 
 
 def test_cli_fit_bad_input_exits_2_with_one_line(
