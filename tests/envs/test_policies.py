@@ -73,7 +73,8 @@ def test_uncertainty_policy_touches_away_from_the_contacts() -> None:
         approaches.append(decode_action(action, 0.05, 0.005, env.n_fingers).approach)
         obs, *_ = env.step(action)
     approaches = np.array(approaches)
-    # Spread out: no two of the first six approaches within 30 degrees of each other.
+    # Spread out: no two of the first six approaches within 30 degrees of each other
+    # (measured: 41.7 deg at least here; 37.6-46.6 deg over reset seeds 1-3).
     cos = approaches @ approaches.T
     assert np.max(cos[~np.eye(6, dtype=bool)]) < np.cos(np.radians(30))
 

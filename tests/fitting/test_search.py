@@ -89,7 +89,9 @@ def test_genetic_search_improves_and_respects_its_budget(box_contacts) -> None:
         opt = GeneticOptions(population=20, replacement=replacement)
         run = genetic_search(objective, seeds, np.random.default_rng(1), 800, opt)
         assert run.evaluations <= 800 and objective.evaluations == 6 + run.evaluations
-        assert run.eof[0] < 0.2 * start
+        # measured: the best EOF falls to 0.0093 (crowding) and 0.0054 (generational) of the
+        # best seed's in 800 evaluations
+        assert run.eof[0] < 0.05 * start
         assert np.all(np.diff(run.eof) >= 0)
 
 
@@ -101,7 +103,8 @@ def test_multi_start_lm_lowers_every_eof_and_counts(box_contacts) -> None:
     x, eof = multi_start_run(objective, starts, steps=6)
     # Each start: its residual, then at most 6 steps of a residual and (if accepted) a Jacobian.
     assert 5 + 5 * 15 <= objective.evaluations <= 5 + 5 * (1 + 6 * STEP_EVALUATIONS)
-    assert np.all(eof <= before) and np.all(eof < 0.01 * before)
+    # measured: every start falls to <= 2e-16 of its EOF (clean contacts, the truth nearby)
+    assert np.all(eof <= before) and np.all(eof < 1e-10 * before)
     np.testing.assert_allclose(objective.eof(x), eof, rtol=1e-12)
 
 

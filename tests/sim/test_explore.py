@@ -69,3 +69,30 @@ def test_paper_exploration_meets_the_targets(body: str, tmp_path) -> None:
     assert acc["distance_median"] <= 5e-4
     assert acc["angle_median_deg"] <= 2.0 and acc["angle_p95_deg"] <= 10.0
     assert summary["metrics"]["epsilon"] <= 0.10
+
+
+#: Default-run explorations (body, strategy, contacts) -> limits on epsilon of the nH fit and
+#: the median distance [m] and 95th percentile normal angle [deg] of the clean contacts.
+#: Measured (scripts/measure_bounds.py --section explore, noise 0, seeds 0-1): cube/paper/150
+#: epsilon 0.0000-0.0001, distance 3e-7 m, angle p95 1.2 deg; cylinder/stripe/60 epsilon
+#: 0.0004-0.0005, distance 4-6e-6 m, angle p95 1.4-1.6 deg. Contacts 1 mm off the surface
+#: would score epsilon ~0.1 and a distance of 1e-3 m (the limits fail them).
+DEFAULT_RUNS = {
+    ("cube", "paper", 150): (0.03, 1e-4, 5.0),
+    ("cylinder", "stripe", 60): (0.03, 1e-4, 5.0),
+}
+
+
+@pytest.mark.parametrize(("run", "limits"), DEFAULT_RUNS.items(), ids=lambda v: str(v))
+def test_explore_fit_quality_is_bounded(run: tuple, limits: tuple, tmp_path) -> None:
+    body, strategy, count = run
+    max_epsilon, max_distance, max_angle = limits
+    summary = explore(body, strategy, noise=0.0, method="nH", seed=0, out_dir=tmp_path,
+                      progress=False, count=count)  # fmt: skip
+    assert summary["complete"] and summary["contacts"] == count
+    assert summary["metrics"]["epsilon"] < max_epsilon
+    acc = summary["contact_accuracy"]
+    assert acc["distance_median"] < max_distance and acc["angle_p95_deg"] < max_angle
+    with np.load(summary["files"]["contacts"]) as data:  # the strategy's own patterns
+        kinds = set(data["pattern_kind"].tolist())
+    assert "stripe" in kinds

@@ -32,7 +32,8 @@ def test_every_sweeping_finger_records_on_both_faces(sweep) -> None:
         n = normals[finger == f]
         on_front = np.sum(n @ np.array([1.0, 0, 0]) > np.cos(np.radians(5)))
         on_top = np.sum(n @ np.array([0, 0, 1.0]) > np.cos(np.radians(5)))
-        # measured: 6 and 6 per finger (spacing 4 mm, stripes ~50 mm)
+        # measured: 5-5 and 5-6 per finger (spacing 4 mm, stripes ~50 mm); >= 3 on each face
+        # is what a fit needs to see both faces
         assert on_front >= 3 and on_top >= 3, (f, on_front, on_top)
 
 
@@ -42,17 +43,18 @@ def test_stripes_cross_the_edge_in_order(sweep) -> None:
     z_of_normal = arrays["normals_clean"][sel][:, 2]
     t = arrays["time"][sel]
     assert np.all(np.diff(t) > 0)
-    # first on the front face (normal +x), last on the top face (normal +z)
+    # first on the front face (normal +x), last on the top face (normal +z); measured: normal
+    # z 0.000 first, 1.000 last (angles within 6 deg of each face pass)
     assert z_of_normal[0] < 0.1 and z_of_normal[-1] > 0.99
 
 
 def test_thumb_touches_the_corner_meanwhile(sweep) -> None:
     _, arrays = sweep
     sel = arrays["finger"] == 0
-    assert sel.sum() >= 3
+    assert sel.sum() >= 3  # measured: 6 of the 6 probes recorded
     corners = np.array([[0.03, sy, 0.03] for sy in (0.03, -0.03)])
     dist = np.linalg.norm(arrays["points_clean"][sel][:, None] - corners[None], axis=2).min(1)
-    assert np.all(dist < 0.025), dist
+    assert np.all(dist < 0.025), dist  # measured: <= 0.0167 m from a corner (cube side 0.06)
     # the thumb's probes overlap the sweep in time
     stripe_t = arrays["time"][arrays["finger"] == 2]
     assert arrays["time"][sel].min() < stripe_t.max()
@@ -63,7 +65,7 @@ def test_sweep_contacts_are_accurate(sweep) -> None:
     p, n = arrays["points_clean"], arrays["normals_clean"]
     from hapticsim.sim.accuracy import normal_angle_deg, surface_distance
 
-    # measured: distance < 0.01 mm, angles median 0.1 deg, max ~2.5 deg on the edge
+    # measured: distance <= 3.8e-6 m, angles median 0.06 deg, max 2.3 deg on the edge
     assert np.max(surface_distance(CUBE, p)) < 2e-4
     assert np.median(normal_angle_deg(CUBE, p, n)) < 1.0
     assert np.max(normal_angle_deg(CUBE, p, n)) < 10.0
