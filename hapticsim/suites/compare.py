@@ -177,6 +177,8 @@ class Comparison:
                 f"{_num(g.results, short):>8}  {_signed(g.difference):>8}  {p:>8.2g}  {verdict}"
                 + (f" ({'; '.join(notes)})" if notes else "")
             )
+        if len(lines) == 3:
+            lines.append("(no group changed)")
         lines.append("")
         if self.regressions:
             lines.append(

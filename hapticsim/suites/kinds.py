@@ -79,9 +79,9 @@ def _paper_bodies() -> tuple[str, ...]:
 
 
 def _methods() -> tuple[str, ...]:
-    from hapticsim.fitting import METHODS
+    from hapticsim.fitting import FIT_METHODS
 
-    return tuple(METHODS)
+    return tuple(FIT_METHODS)
 
 
 def _strategies() -> tuple[str, ...]:

@@ -34,15 +34,16 @@ def _write(tmp_path: Path, text: str, name: str = "tiny-v2.toml") -> Path:
 
 
 def test_the_shipped_suites() -> None:
-    assert suite_names() == ("explore-v1", "fit-v1", "policy-v1")
+    assert suite_names() == ("explore-v1", "fit-v1", "fit-v2", "policy-v1")
     suites = {s.id: s for s in list_suites()}
-    # fit-v1: 5 bodies x 4 methods x 4 noise levels x 8 runs; explore-v1: 4 x 4 strategies x
-    # 3 noise levels x 3 runs; policy-v1: 3 policies x 2 object sets x 2 backends x 10 runs.
+    # fit-v1: 5 bodies x 4 methods x 4 noise levels x 8 runs (fit-v2: 5 methods, nML added);
+    # explore-v1: 4 x 4 strategies x 3 noise levels x 3 runs; policy-v1: 3 policies x 2 object
+    # sets x 2 backends x 10 runs.
     assert {k: len(s.cases) for k, s in suites.items()} == {
-        "fit-v1": 640, "explore-v1": 144, "policy-v1": 120,
+        "fit-v1": 640, "fit-v2": 800, "explore-v1": 144, "policy-v1": 120,
     }  # fmt: skip
     assert {k: s.kind for k, s in suites.items()} == {
-        "fit-v1": "fit", "explore-v1": "explore", "policy-v1": "policy",
+        "fit-v1": "fit", "fit-v2": "fit", "explore-v1": "explore", "policy-v1": "policy",
     }  # fmt: skip
     for suite in suites.values():
         ids = [c.id for c in suite.cases]
@@ -54,6 +55,10 @@ def test_the_shipped_suites() -> None:
     assert {c.params["body"] for c in fit.cases} >= {"cube", "random_tapered"}
     assert {c.params["noise"] for c in fit.cases} == {0.0, 0.02, 0.05, 0.1}
     assert {c.params["count"] for c in fit.cases} == {150}
+    # fit-v2 is fit-v1 plus nML: the shared cases are the same cases (ids, parameters, seeds)
+    v2 = {c.id: c for c in suites["fit-v2"].cases}
+    assert all(v2[c.id].items == c.items and v2[c.id].seed == c.seed for c in fit.cases)
+    assert {c.params["method"] for c in v2.values()} - {"LS", "H", "nLS", "nH"} == {"nML"}
 
 
 def test_cases_that_differ_in_method_share_their_data_seed() -> None:
@@ -87,7 +92,8 @@ def test_a_suite_file_by_path_and_case_selection(tmp_path: Path) -> None:
 
 
 def test_unknown_suite_lists_the_suites() -> None:
-    with pytest.raises(InvalidInputError, match="the suites are explore-v1, fit-v1, policy-v1"):
+    shipped = "explore-v1, fit-v1, fit-v2, policy-v1"
+    with pytest.raises(InvalidInputError, match=f"the suites are {shipped}"):
         load_suite("fit-v9")
 
 
