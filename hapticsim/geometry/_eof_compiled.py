@@ -47,7 +47,10 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from hapticsim._jit_cache import ensure_fresh
 from hapticsim.constants import MIN_TAPER_FACTOR
+
+ensure_fresh()  # before any cached kernel of hapticsim is loaded (they all import this module)
 
 #: Floor added to |x / a| before its log (as the oracle): finite logs on the body planes.
 TINY = 1e-150

@@ -1,0 +1,62 @@
+"""Keep numba's on-disk cache of hapticsim's compiled kernels consistent with their sources.
+
+numba (``cache=True``) checks a cached function against the modification time of *its own*
+source file only. hapticsim's compiled modules inline each other's functions (the EOF kernel into
+least squares, the genetic algorithm and the metrics), so after an edit of one of them the others'
+cached machine code would silently keep the old version. This module keeps one fingerprint of all
+the compiled modules' sources beside their caches; when it changes, every cached file of those
+modules is deleted before anything is loaded, and numba compiles afresh.
+
+A fresh installation has no cache, so this only matters in a working tree (or an installation
+whose sources were edited in place). Where the package directory cannot be written, numba keeps
+its cache elsewhere (``NUMBA_CACHE_DIR``) and this check does nothing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+_PACKAGE = Path(__file__).resolve().parent
+#: The modules with ``cache=True`` functions, relative to the package.
+COMPILED: tuple[str, ...] = (
+    "geometry/_eof_compiled.py",
+    "geometry/_rays_compiled.py",
+    "fitting/_lm_compiled.py",
+    "fitting/_ga_compiled.py",
+    "metrics/_compiled.py",
+)
+_STAMP = "hapticsim-jit-sources.sha256"
+_checked = False
+
+
+def fingerprint() -> str:
+    """SHA-256 of the compiled modules' sources (missing files count as empty)."""
+    digest = hashlib.sha256()
+    for name in COMPILED:
+        path = _PACKAGE / name
+        digest.update(name.encode())
+        digest.update(path.read_bytes() if path.is_file() else b"")
+    return digest.hexdigest()
+
+
+def ensure_fresh() -> None:
+    """Delete the compiled modules' numba cache files if their sources changed (once per
+    process; errors, e.g. a read-only directory, are ignored: numba then caches elsewhere)."""
+    global _checked
+    if _checked:
+        return
+    _checked = True
+    try:
+        stamp = _PACKAGE / "__pycache__" / _STAMP
+        current = fingerprint()
+        if stamp.is_file() and stamp.read_text().strip() == current:
+            return
+        for name in COMPILED:
+            module = _PACKAGE / name
+            for cached in (module.parent / "__pycache__").glob(f"{module.stem}.*.nb[ic]"):
+                cached.unlink(missing_ok=True)
+        stamp.parent.mkdir(exist_ok=True)
+        stamp.write_text(current + "\n")
+    except OSError:
+        pass
