@@ -89,6 +89,10 @@ class HapticExploreConfig:
         support: what holds the object up in the analytic backend: ``"stand"`` (a thin post
             under it, as in the MuJoCo scene, which always has one), ``"table"`` or ``"none"``;
             contacts where a fingertip would hit it are unreachable.
+        camera_size: (width, height) [px] of the depth image of the vision estimate made at
+            every reset (:class:`hapticsim.sim.rough.DepthCamera`, otherwise its defaults): half
+            the resolution of ``hapticsim explore``'s 320 x 240, which halves the cost of a
+            reset (about 25 ms of CPU) for a rough centre about 1 mm worse (median 6 mm).
         hand: the MuJoCo backend's hand: ``"hapticsim"`` (default, four fingers), ``"shadow"``
             or ``"adroit"`` (five fingers; the optional extra ``hands``), or the path of a TOML
             hand description (``docs/hands.md``); the finger count sets what action component 4
@@ -118,6 +122,7 @@ class HapticExploreConfig:
     fit: FitSchedule = field(default_factory=FitSchedule)
     support: str = "stand"
     hand: str | os.PathLike[str] = "hapticsim"
+    camera_size: tuple[int, int] = (160, 120)
     compute_metrics: bool = True
     metric_samples: int = 10_000
     chamfer_samples: int = 200
@@ -125,6 +130,17 @@ class HapticExploreConfig:
     height: int = 360
 
     def __post_init__(self) -> None:
+        size = self.camera_size
+        if (
+            not isinstance(size, (tuple, list))
+            or len(size) != 2
+            or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 8
+                       for v in size)
+        ):  # fmt: skip
+            raise InvalidInputError(
+                f"`camera_size` must be (width, height), two ints >= 8 [px], got {size!r}"
+            )
+        object.__setattr__(self, "camera_size", (int(size[0]), int(size[1])))
         if self.backend not in BACKENDS:
             raise InvalidInputError(f"`backend` must be one of {BACKENDS}, got {self.backend!r}")
         if self.support not in SUPPORTS:
@@ -390,6 +406,10 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.config = config if config is not None else HapticExploreConfig(**kwargs)
         self.render_mode = render_mode
         self._backend = make_backend(self.config)
+        from hapticsim.sim.rough import DepthCamera
+
+        width, height = self.config.camera_size
+        self._camera = DepthCamera(width=width, height=height)
         self.n_fingers = int(self._backend.n_fingers)
         self._fitter = IncrementalFitter(self.config.fit)
 
@@ -489,7 +509,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
         # what the robot knows before touching: one depth image's estimate, off by the
         # camera-to-hand calibration error
-        rough = vision_estimate(shape, self.np_random)
+        rough = vision_estimate(shape, self.np_random, self._camera)
         error = self.np_random.normal(0.0, self.config.position_noise, size=3)
         self._rough = rough.moved(rough.center + error)
         self._truth = self._backend.reset(shape, self.np_random, rough=self._rough)

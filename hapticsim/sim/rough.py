@@ -427,31 +427,45 @@ def _ellipsoid(
     n_rot = free.stop - free.start
 
     def unpack(x: Array) -> tuple[Array, Array, Array]:
-        rotvec = np.zeros(3)
-        rotvec[free] = x[3 : 3 + n_rot]
-        return x[:3], base @ rotvec_to_matrix(rotvec), x[-3:]
+        """Semi-axes (P, 3), rotations (P, 3, 3) and centres (P, 3) of parameter rows (P, k)."""
+        rotvec = np.zeros((len(x), 3))
+        rotvec[:, free] = x[:, 3 : 3 + n_rot]
+        return x[:, :3], base @ rotvec_to_matrix(rotvec), x[:, -3:]
 
     def radial(x: Array) -> Array:
         a, rot, c = unpack(x)
-        p = (cloud - c) @ rot
-        f = np.sqrt(np.sum((p / a) ** 2, axis=1))
-        return np.linalg.norm(p, axis=1) * (1.0 - 1.0 / np.maximum(f, 1e-12))
+        p = np.einsum("pni,pij->pnj", cloud[None, :, :] - c[:, None, :], rot)  # (P, n, 3)
+        f = np.sqrt(np.sum((p / a[:, None, :]) ** 2, axis=2))
+        return np.linalg.norm(p, axis=2) * (1.0 - 1.0 / np.maximum(f, 1e-12))
+
+    def residuals_many(x: Array) -> Array:
+        a, rot, c = unpack(x)
+        # reach of the ellipsoid along the camera's right and up axes: sqrt(d^T R A^2 R^T d)
+        local = np.einsum("pji,jk->pik", rot, view)  # R^T view, (P, 3, 2)
+        reach = np.sqrt(np.sum(local**2 * (a**2)[:, :, None], axis=1))  # (P, 2)
+        mid = c @ view
+        outline = np.concatenate([mid + reach - hi, mid - reach - lo], axis=1) / pixel
+        return np.concatenate([radial(x) / sigma, outline], axis=1)
 
     def residuals(x: Array) -> Array:
-        a, rot, c = unpack(x)
-        reach = np.sqrt(np.sum((rot.T @ view) ** 2 * (a**2)[:, None], axis=0))  # (2,)
-        mid = c @ view
-        outline = np.concatenate([mid + reach - hi, mid - reach - lo]) / pixel
-        return np.concatenate([radial(x) / sigma, outline])
+        return residuals_many(x[None, :])[0]
+
+    def jacobian(x: Array) -> Array:
+        # Forward differences, all perturbed rows in one batched call.
+        step = 1e-7 * np.maximum(np.abs(x), 1e-2)
+        step = np.where(x + step > bounds_hi, -step, step)
+        rows = np.vstack([x, x + np.diag(step)])
+        r = residuals_many(rows)
+        return ((r[1:] - r[0]) / step[:, None]).T
 
     centre0 = cloud.mean(axis=0) + axes[:, 2] * float(np.mean(extent))  # one extent deeper
     x0 = np.concatenate([np.minimum(extent, limit - 1e-3), np.zeros(n_rot), centre0])
     bounds_lo = np.concatenate([np.full(3, 1e-3), np.full(n_rot, -np.pi), np.full(3, -np.inf)])
     bounds_hi = np.concatenate([np.full(3, limit), np.full(n_rot, np.pi), np.full(3, np.inf)])
-    sol = least_squares(residuals, np.clip(x0, bounds_lo + 1e-9, bounds_hi - 1e-9),
+    sol = least_squares(residuals, np.clip(x0, bounds_lo + 1e-9, bounds_hi - 1e-9), jac=jacobian,
                         bounds=(bounds_lo, bounds_hi), x_scale="jac", max_nfev=200)  # fmt: skip
-    a, rot, c = unpack(sol.x)
-    return rot, c, a, float(np.sqrt(np.mean(radial(sol.x) ** 2)))
+    a, rot, c = (v[0] for v in unpack(sol.x[None, :]))
+    return rot, c, a, float(np.sqrt(np.mean(radial(sol.x[None, :])[0] ** 2)))
 
 
 def vision_estimate(
