@@ -18,7 +18,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 PACKAGE = REPO / "hapticsim"
-ROOT = {"errors", "constants", "_validate", "_files", "parallel"}
+ROOT = {"errors", "constants", "_validate", "_files", "_jit_cache", "parallel"}
 #: Package -> the hapticsim packages it may import (besides the root modules).
 ALLOWED: dict[str, set[str]] = {
     "geometry": set(),
