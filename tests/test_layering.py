@@ -1,9 +1,9 @@
 """Every package imports only the layers below it (STYLE.md: dependencies point down).
 
-The table is the layout of STYLE.md; the root modules (``errors``, ``constants``, ``_validate``, ``_jit_cache``,
-``_files``) and the executor layer ``parallel`` sit below ``geometry`` and import no package of
-hapticsim; ``suites`` runs experiments and sits on top. Lazy imports
-inside functions count too: an upward import anywhere makes a circle.
+The table is the layout of STYLE.md; the root modules (``errors``, ``constants``, ``_validate``,
+``_jit_cache``, ``_files``) and the executor layer ``parallel`` sit below ``geometry`` and import
+no package of hapticsim; ``suites`` runs experiments and sits on top. Lazy imports inside
+functions count too: an upward import anywhere makes a circle.
 """
 
 from __future__ import annotations
