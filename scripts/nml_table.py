@@ -30,10 +30,11 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
+
+from hapticsim.parallel import parallel_map
 
 VARIANTS = ("nH", "oracle", "nML", "nML-known", "nML-mlsearch", "nML-robust", "nML-prior",
             "nML-refine", "nML-eps")  # fmt: skip
@@ -169,8 +170,8 @@ def main(argv: list[str] | None = None) -> int:
     tasks = [(k, s, float(n), variants, args.samples) for n in args.noise.split(",")
              for k, s in kinds]  # fmt: skip
     start, load = time.perf_counter(), os.getloadavg()
-    with ProcessPoolExecutor(max_workers=args.processes) as pool:
-        rows = [row for chunk in pool.map(_task, tasks, chunksize=4) for row in chunk]
+    chunks = parallel_map(_task, tasks, args.processes, "nML table")
+    rows = [row for chunk in chunks for row in chunk]
     table = _summary(rows)
     if args.rows:
         with open(args.rows, "w") as fh:
