@@ -598,8 +598,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 self._truth_scorer = TruthScorer(
                     self._truth, self.config.metric_samples, self.config.chamfer_samples, rng=0
                 )
-            else:
-                self._truth_scorer = self._truth_scorer.with_truth(self._truth, rng=0)
+            # the truth's samples always come from with_truth, so that an instance's first
+            # episode scores as a later one with the same seed does
+            self._truth_scorer = self._truth_scorer.with_truth(self._truth, rng=0)
         return self._truth_scorer
 
     def _progress_value(self, points: Array) -> float:
