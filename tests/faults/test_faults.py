@@ -179,10 +179,11 @@ def _sigint_after(seconds: float) -> Iterator[None]:
 def test_ctrl_c_during_fit_out_leaves_no_file(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
-    # 5 000 contacts: the fit takes about 4 s (measured 4.3 s); Ctrl-C comes after 1 s. The
+    # 15 000 contacts: the fit takes about 4 s (5 000 took 1.4 s on a quiet machine since the
+    # fast loop, too close to the 1 s); Ctrl-C comes after 1 s. The
     # compiled search does not look at signals, so Ctrl-C takes effect when its call returns
     # (measured: 20 000 contacts at budget 10^6 took 19-38 s to stop).
-    write_contacts(tmp_path / "c.npz", paper_dataset(get_body("cube"), rng=0, count=5_000))
+    write_contacts(tmp_path / "c.npz", paper_dataset(get_body("cube"), rng=0, count=15_000))
     with _sigint_after(1.0):
         code = main(["fit", str(tmp_path / "c.npz"), "--out", str(tmp_path / "fit.json")])
     assert (code, *capsys.readouterr()) == (130, "", "hapticsim fit: interrupted\n")
@@ -190,12 +191,26 @@ def test_ctrl_c_during_fit_out_leaves_no_file(
 
 
 def test_ctrl_c_during_explore_leaves_no_file(
-    tmp_path: Path, capsys: pytest.CaptureFixture
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
+    from hapticsim.sim.recorder import Recorder
+
+    # a real SIGINT in the middle of the simulation, as the 60th contact is recorded (a fixed
+    # delay is not a fixed place: since the fast loop the whole run can end within 1.5 s)
+    real_add, sent = Recorder.add, []
+
+    def add(self, contact, pattern):
+        if len(self) == 60 and not sent:
+            sent.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        return real_add(self, contact, pattern)
+
+    monkeypatch.setattr(Recorder, "add", add)
     argv = ["explore", "--object", "cube", "--count", "150", "--quiet", "--out",
             str(tmp_path / "run")]  # fmt: skip
-    with _sigint_after(1.5):  # the simulation takes several seconds
+    with _sigint_after(600.0):  # only installs the handler; the signal above is the one sent
         code = main(argv)
+    assert sent, "the exploration never recorded 60 contacts"
     assert (code, *capsys.readouterr()) == (130, "", "hapticsim explore: interrupted\n")
     assert _files_under(tmp_path) == []
 
