@@ -66,6 +66,58 @@ def check_scheduler_address(address: str) -> str:
     )
 
 
+def _probe(address: str, timeout: float) -> None:
+    """Connect to `address` and exchange Dask's handshake, all within `timeout` seconds.
+
+    ``distributed.Client`` waits without limit for the handshake of a server that accepts the
+    connection but never answers (any service on the port that waits for its own protocol, such
+    as ``python -m http.server``), and fails deep inside with a traceback on one that answers
+    otherwise (an HTTP proxy or a Dask dashboard: its ``HTTP/1.0`` read as a frame length of
+    3.5e18 bytes is a MemoryError). The probe runs in a thread of its own, so that it works from
+    inside a running event loop (a notebook) too.
+
+    Raises:
+        SchedulerError: nothing listens, no answer in time, or an answer that is not Dask's.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    outcome: dict[str, BaseException | None] = {}
+
+    async def handshake() -> None:
+        args = Security().get_connection_args("client")
+        comm = await asyncio.wait_for(connect(address, timeout=timeout, **args), timeout + 1.0)
+        comm.abort()
+
+    def attempt() -> None:
+        try:
+            asyncio.run(handshake())
+            outcome["error"] = None
+        except BaseException as exc:  # noqa: BLE001 - reported below, in the caller's thread
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=attempt, name="hapticsim-dask-probe", daemon=True)
+    thread.start()
+    thread.join(timeout + 5.0)
+    if "error" not in outcome or isinstance(outcome["error"], TimeoutError):
+        raise SchedulerError(
+            f"cannot reach the Dask scheduler at {address}: no Dask handshake within "
+            f"{timeout:g} s (is a Dask scheduler listening there?)"
+        )
+    error = outcome["error"]
+    if isinstance(error, OSError):
+        detail = " ".join(str(error).split()) or type(error).__name__
+        raise SchedulerError(f"cannot reach the Dask scheduler at {address}: {detail}")
+    if error is not None:
+        raise SchedulerError(
+            f"cannot reach the Dask scheduler at {address}: what answers there is not a Dask "
+            f"scheduler ({type(error).__name__} in the handshake; a Dask dashboard or another "
+            "service?)"
+        )
+
+
 def _call(func: Callable[[T], R], task: T) -> R:
     """Run one task on a Dask worker: one BLAS thread, one task of ours at a time per process.
 
@@ -148,6 +200,7 @@ class DaskExecutor(Executor[T, R]):
                     )  # fmt: skip
                 self._client = Client(self._cluster, set_as_default=False)
             else:
+                _probe(self.scheduler, self.timeout)
                 self._client = Client(self.scheduler, timeout=self.timeout, set_as_default=False)
                 self._client.wait_for_workers(1, timeout=self.timeout)
         except (OSError, TimeoutError) as exc:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import socket
 import sys
+import threading
 import time
 from collections.abc import Iterator
 
@@ -70,3 +72,45 @@ def test_an_unreachable_scheduler_is_one_clear_error() -> None:
     with pytest.raises(SchedulerError, match=r"cannot reach the Dask scheduler at tcp://127\.0"):
         DaskExecutor("tcp://127.0.0.1:9", timeout=1.0).map(_draw, [1], progress=False)
     assert time.perf_counter() - start < 15.0
+
+
+@pytest.fixture
+def impostor(request: pytest.FixtureRequest) -> Iterator[str]:
+    """A loopback server that is not a Dask scheduler: it keeps silent, or answers like HTTP."""
+    server = socket.create_server(("127.0.0.1", 0))
+    held: list[socket.socket] = []
+
+    def serve() -> None:
+        try:
+            conn, _ = server.accept()
+        except OSError:  # closed before anyone came
+            return
+        held.append(conn)
+        conn.recv(1024)  # Dask's handshake
+        if request.param == "http":  # what a dashboard port or an HTTP proxy says
+            conn.sendall(b"HTTP/1.0 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    server.close()
+    for conn in held:
+        conn.close()
+
+
+@pytest.mark.parametrize(
+    ("impostor", "message"),
+    [
+        # distributed.Client alone waits for this one's handshake without end
+        ("silent", "no Dask handshake within 1 s"),
+        # ... and ends with a MemoryError traceback on this one (b"HTTP/1.0" read as a length)
+        ("http", "is not a Dask scheduler (MemoryError in the handshake"),
+    ],
+    indirect=["impostor"],
+)
+def test_a_server_that_is_not_a_scheduler_is_one_clear_error(impostor: str, message: str) -> None:
+    with pytest.raises(
+        SchedulerError, match=rf"cannot reach the Dask scheduler at {impostor}: "
+    ) as info:
+        DaskExecutor(impostor, timeout=1.0).map(_draw, [1], progress=False)
+    assert message in str(info.value)
