@@ -61,7 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     for name in [] if args.tables_only else args.suites or suite_names():
         engine = f"--scheduler {args.scheduler}" if args.scheduler else f"--workers {args.workers}"
         command = f"hapticsim suite run {name} {engine} --out {args.out / name}.json"
-        print(f"{command}   (load average {os.getloadavg()})", file=sys.stderr)
+        load = [round(x, 2) for x in os.getloadavg()]
+        print(f"{command}   (load average {load})", file=sys.stderr)
         results = run_suite(
             name, args.out / f"{name}.json", workers=None if args.scheduler else args.workers,
             scheduler=args.scheduler, command=command.split(),
