@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from hypothesis import strategies as st
 
 from hapticsim.data.bodies import BODY_NAMES
-from hapticsim.fitting.methods import METHODS
+from hapticsim.fitting.methods import FIT_METHODS, METHODS
 from tests.fuzz.inputs import (
     EXISTING,
     JUNK_TOKENS,
@@ -64,12 +64,15 @@ def fit_cases(draw: st.DrawFn) -> Case:
     argv = ["fit", contacts.name] + _options(
         draw,
         {
-            "--method": choice(METHODS, ("GA", "nh ", "")),
+            "--method": choice(FIT_METHODS, ("GA", "nh ", "")),
             "--seed": ints((0, 2**32)),
             "--budget": ints((1, 3000)),
             "--out": out_paths("fit", ".json"),
+            "--noise": floats((0.0, 0.2)),
         },
     )
+    if draw(st.integers(0, 4)) == 0:
+        argv.append("--free-space")
     return Case(tuple(argv), (contacts,))
 
 

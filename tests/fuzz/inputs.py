@@ -111,54 +111,69 @@ def contact_arrays(draw: st.DrawFn) -> dict[str, np.ndarray]:
         what = draw(
             st.sampled_from(
                 ["scale", "offset", "nan", "inf", "duplicate", "collinear", "planar", "dtype",
-                 "shape", "drop", "extra", "zero_normal", "count", "negative_zero"]
+                 "shape", "drop", "extra", "zero_normal", "count", "negative_zero", "free_space"]
             )
         )  # fmt: skip
         key = draw(st.sampled_from(["points", "normals"]))
-        if key not in arrays and what not in ("extra",):
+        if key not in arrays and what not in ("extra", "free_space"):
             continue
-        arr = arrays.get(key)
-        if what == "scale":
-            arrays[key] = arr * draw(st.sampled_from(SCALES))
-        elif what == "offset":
-            arrays[key] = arr + draw(st.sampled_from([1e3, 1e6, 1e9, -1e300]))
-        elif what in ("nan", "inf") and arr.size and arr.dtype.kind == "f":
-            flat = arr.astype(np.float64).ravel().copy()
-            flat[draw(st.integers(0, flat.size - 1))] = np.nan if what == "nan" else -np.inf
-            arrays[key] = flat.reshape(arr.shape)
-        elif what == "duplicate" and len(arr):
-            arrays[key] = np.repeat(arr[:1], len(arr), axis=0)
-        elif what == "collinear" and arr.ndim == 2 and arr.shape[1] == 3:
-            arrays[key] = np.outer(np.linspace(0.0, 0.1, len(arr)), [1.0, 2.0, 3.0])
-        elif what == "planar" and arr.ndim == 2 and arr.shape[1] == 3:
-            flat = arr.astype(np.float64).copy()
-            flat[:, 2] = 0.0
-            arrays[key] = flat
-        elif what == "dtype":
-            arrays[key] = _cast(arr, draw(st.sampled_from(DTYPES)))
-        elif what == "shape":
-            shape = draw(st.sampled_from([(-1,), (-1, 2), (-1, 4), (-1, 3, 1), (3, -1), ()]))
-            flat = arr.ravel()
-            if shape == ():
-                arrays[key] = np.asarray(flat[0] if flat.size else 0.0)
-            elif shape[0] == 3:
-                arrays[key] = arr.T.copy() if arr.ndim == 2 else arr
-            elif flat.size % int(np.prod([s for s in shape if s > 0])) == 0:
-                arrays[key] = flat.reshape(shape)
-        elif what == "drop":
-            del arrays[key]
-        elif what == "extra":
-            name = draw(st.sampled_from(["finger", "force", "x", "normals_clean", "pattern"]))
-            size = draw(st.sampled_from([count, count + 1, 0]))
-            arrays[name] = np.arange(size)
-        elif what == "zero_normal" and key == "normals" and arr.size:
-            flat = np.array(arr, dtype=np.float64, copy=True)
-            flat.reshape(-1)[:3] = 0.0
-            arrays[key] = flat
-        elif what == "count" and arr.ndim >= 1 and len(arr) > 1:
-            arrays[key] = arr[: draw(st.integers(0, len(arr) - 1))]
-        elif what == "negative_zero":
-            arrays[key] = -np.zeros_like(arr)
+        try:  # a mutation that does not apply to an earlier one's result is skipped
+            arr = arrays.get(key)
+            if what == "scale":
+                arrays[key] = arr * draw(st.sampled_from(SCALES))
+            elif what == "offset":
+                arrays[key] = arr + draw(st.sampled_from([1e3, 1e6, 1e9, -1e300]))
+            elif what in ("nan", "inf") and arr.size and arr.dtype.kind == "f":
+                flat = arr.astype(np.float64).ravel().copy()
+                flat[draw(st.integers(0, flat.size - 1))] = np.nan if what == "nan" else -np.inf
+                arrays[key] = flat.reshape(arr.shape)
+            elif what == "duplicate" and len(arr):
+                arrays[key] = np.repeat(arr[:1], len(arr), axis=0)
+            elif what == "collinear" and arr.ndim == 2 and arr.shape[1] == 3:
+                arrays[key] = np.outer(np.linspace(0.0, 0.1, len(arr)), [1.0, 2.0, 3.0])
+            elif what == "planar" and arr.ndim == 2 and arr.shape[1] == 3:
+                flat = arr.astype(np.float64).copy()
+                flat[:, 2] = 0.0
+                arrays[key] = flat
+            elif what == "dtype":
+                arrays[key] = _cast(arr, draw(st.sampled_from(DTYPES)))
+            elif what == "shape":
+                shape = draw(st.sampled_from([(-1,), (-1, 2), (-1, 4), (-1, 3, 1), (3, -1), ()]))
+                flat = arr.ravel()
+                if shape == ():
+                    arrays[key] = np.asarray(flat[0] if flat.size else 0.0)
+                elif shape[0] == 3:
+                    arrays[key] = arr.T.copy() if arr.ndim == 2 else arr
+                elif flat.size % int(np.prod([s for s in shape if s > 0])) == 0:
+                    arrays[key] = flat.reshape(shape)
+            elif what == "drop":
+                del arrays[key]
+            elif what == "extra":
+                name = draw(st.sampled_from(["finger", "force", "x", "normals_clean", "pattern"]))
+                size = draw(st.sampled_from([count, count + 1, 0]))
+                arrays[name] = np.arange(size)
+            elif what == "free_space":  # nML's free-space points: any number of (3,) rows
+                free = points[: draw(st.integers(0, len(points)))]
+                free = free * draw(st.sampled_from([1.2, 0.0]))
+                shape = draw(st.sampled_from(["ok", "ok", "2d", "nan", "flat"]))
+                if shape == "2d":
+                    free = free[:, :2]
+                elif shape == "nan" and free.size:
+                    free = free.copy()
+                    free[0, 0] = np.nan
+                elif shape == "flat":
+                    free = free.ravel()
+                arrays["free_space"] = free
+            elif what == "zero_normal" and key == "normals" and arr.size:
+                flat = np.array(arr, dtype=np.float64, copy=True)
+                flat.reshape(-1)[:3] = 0.0
+                arrays[key] = flat
+            elif what == "count" and arr.ndim >= 1 and len(arr) > 1:
+                arrays[key] = arr[: draw(st.integers(0, len(arr) - 1))]
+            elif what == "negative_zero":
+                arrays[key] = -np.zeros_like(arr)
+        except (TypeError, ValueError):
+            pass
     return arrays
 
 

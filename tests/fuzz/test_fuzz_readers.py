@@ -20,7 +20,7 @@ from hapticsim._files import read_json
 from hapticsim.data.bodies import resolve_body
 from hapticsim.data.io import Contacts, read_contacts
 from hapticsim.errors import HapticsimError
-from hapticsim.fitting import METHODS, fit
+from hapticsim.fitting import FIT_METHODS, fit
 from hapticsim.geometry import Superquadric
 from tests.fuzz.inputs import (
     contact_arrays,
@@ -82,7 +82,7 @@ def test_superquadric_dicts(data) -> None:
 
 
 @settings(max_examples=40, **_SETTINGS)
-@given(arrays=contact_arrays(), method=st.sampled_from(METHODS), seed=st.integers(0, 9))
+@given(arrays=contact_arrays(), method=st.sampled_from(FIT_METHODS), seed=st.integers(0, 9))
 def test_fit_on_fuzzed_arrays(arrays, method: str, seed: int) -> None:
     points, normals = arrays.get("points"), arrays.get("normals")
     result = _keeps_the_contract(lambda: fit(points, normals, method=method, budget=300, rng=seed))
