@@ -30,6 +30,11 @@ from hapticsim.suites.cases import run_case
 REPO = Path(__file__).resolve().parents[2]
 #: Environment variable naming the task a patched worker function dies on.
 KILL_ENV = "HAPTICSIM_TEST_DIE_ON"
+#: Environment variables of :func:`_interrupt_or_run_trial`: the trial it holds, the pid it
+#: sends SIGINT, the file it creates.
+HOLD_ENV = "HAPTICSIM_TEST_HOLD_ON"
+SIGNAL_PID_ENV = "HAPTICSIM_TEST_SIGNAL_PID"
+MARKER_ENV = "HAPTICSIM_TEST_MARKER"
 
 
 def _die_or_run_trial(trial):
@@ -37,6 +42,20 @@ def _die_or_run_trial(trial):
     KILL_ENV: what a crash in native code or the out-of-memory killer does."""
     if trial.label == os.environ.get(KILL_ENV):
         os.kill(os.getpid(), signal.SIGKILL)
+    return run_trial(trial)
+
+
+def _interrupt_or_run_trial(trial):
+    """`run_trial`, except that on the trial named by HOLD_ENV the worker signals that the run
+    is under way (SIGINT to the pid in SIGNAL_PID_ENV, or a file created at MARKER_ENV) and then
+    holds that trial until the interrupt stops the run (at most 300 s): the run cannot end
+    before the interrupt arrives, however fast the machine (no wall-clock delay decides it)."""
+    if trial.label == os.environ.get(HOLD_ENV):
+        if SIGNAL_PID_ENV in os.environ:
+            os.kill(int(os.environ[SIGNAL_PID_ENV]), signal.SIGINT)
+        if MARKER_ENV in os.environ:
+            Path(os.environ[MARKER_ENV]).touch()
+        time.sleep(300.0)  # the parent terminates this worker when it is interrupted
     return run_trial(trial)
 
 
@@ -107,15 +126,19 @@ def _children(pid: int) -> set[int]:
     return kids
 
 
-def _interrupt(argv: list[str], cwd: Path, when, group: bool = False, timeout: float = 300):
-    """Start ``hapticsim ARGV``, send SIGINT once ``when(proc)`` is true, wait for the end.
+def _interrupt(
+    argv: list[str], cwd: Path, when, group: bool = False, timeout: float = 300,
+    command: tuple[str, ...] | list[str] = ("-m", "hapticsim.cli"),
+):  # fmt: skip
+    """Start ``python COMMAND ARGV`` (by default ``hapticsim ARGV``), send SIGINT once
+    ``when(proc)`` is true, wait for the end.
 
     Returns:
         (exit status, stdout, stderr, child pids seen while it ran).
     """
     env = os.environ | {"PYTHONPATH": str(REPO), "MUJOCO_GL": "egl"}
     proc = subprocess.Popen(
-        [sys.executable, "-m", "hapticsim.cli", *argv], cwd=cwd, env=env, text=True,
+        [sys.executable, *command, *argv], cwd=cwd, env=env, text=True,
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=group,
     )  # fmt: skip
     children: set[int] = set()
@@ -177,15 +200,26 @@ def _sigint_after(seconds: float) -> Iterator[None]:
 
 
 def test_ctrl_c_during_fit_out_leaves_no_file(
-    tmp_path: Path, capsys: pytest.CaptureFixture
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
-    # 15 000 contacts: the fit takes about 4 s (5 000 took 1.4 s on a quiet machine since the
-    # fast loop, too close to the 1 s); Ctrl-C comes after 1 s. The
-    # compiled search does not look at signals, so Ctrl-C takes effect when its call returns
-    # (measured: 20 000 contacts at budget 10^6 took 19-38 s to stop).
-    write_contacts(tmp_path / "c.npz", paper_dataset(get_body("cube"), rng=0, count=15_000))
-    with _sigint_after(1.0):
+    from hapticsim.fitting import driver
+
+    # a real SIGINT as the search starts, after the contacts were read and before anything is
+    # written (a fixed delay is not a fixed place: since the fast loop 5 000 contacts fit in
+    # 1.4 s). The compiled search does not look at signals, so Ctrl-C during it takes effect
+    # when its call returns (measured: 20 000 contacts at budget 10^6 took 19-38 s to stop).
+    real_search, sent = driver.hybrid_search, []
+
+    def search(*args, **kwargs):
+        sent.append(1)
+        os.kill(os.getpid(), signal.SIGINT)
+        return real_search(*args, **kwargs)
+
+    monkeypatch.setattr(driver, "hybrid_search", search)
+    write_contacts(tmp_path / "c.npz", paper_dataset(get_body("cube"), rng=0, count=500))
+    with _sigint_after(600.0):  # only installs the handler; the signal above is the one sent
         code = main(["fit", str(tmp_path / "c.npz"), "--out", str(tmp_path / "fit.json")])
+    assert sent, "the fit never started its search"
     assert (code, *capsys.readouterr()) == (130, "", "hapticsim fit: interrupted\n")
     assert _files_under(tmp_path) == ["c.npz"]
 
@@ -216,37 +250,53 @@ def test_ctrl_c_during_explore_leaves_no_file(
 
 
 def test_ctrl_c_during_reproduce_leaves_no_file(
-    tmp_path: Path, capsys: pytest.CaptureFixture
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
-    argv = ["reproduce", "fig4", "--runs", "2", "--workers", "2", "--quiet", "--out",
+    from hapticsim.experiments import reproduce
+
+    # the worker running the third of 16 trials sends this process a real SIGINT and holds its
+    # trial, so the interrupt lands while trials are running
+    monkeypatch.setenv(HOLD_ENV, Fig4Config(runs=1).trials()[2].label)
+    monkeypatch.setenv(SIGNAL_PID_ENV, str(os.getpid()))
+    monkeypatch.setattr(reproduce, "run_trial", _interrupt_or_run_trial)
+    argv = ["reproduce", "fig4", "--runs", "1", "--workers", "2", "--quiet", "--out",
             str(tmp_path / "rep"), "--results", str(tmp_path / "RESULTS.md")]  # fmt: skip
-    with _sigint_after(2.0):  # 32 fits: about 10 s on two workers
+    with _sigint_after(600.0):  # only installs the handler; the worker sends the signal
         code = main(argv)
     assert (code, *capsys.readouterr()) == (130, "", "hapticsim reproduce: interrupted\n")
     assert _files_under(tmp_path) == []
 
 
-def _has_workers(proc) -> bool:
-    return len(_children(proc.pid)) >= 2
+#: ``hapticsim`` with :func:`_interrupt_or_run_trial` as the trial function of ``reproduce``.
+_HELD_REPRODUCE = (
+    "import sys\n"
+    "from hapticsim.cli import main\n"
+    "from hapticsim.experiments import reproduce\n"
+    "from tests.faults.test_faults import _interrupt_or_run_trial\n"
+    "reproduce.run_trial = _interrupt_or_run_trial\n"
+    "sys.exit(main(sys.argv[1:]))\n"
+)
 
 
 def test_ctrl_c_in_a_terminal_during_reproduce_stops_every_process_and_leaves_no_file(
-    tmp_path: Path,
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    # Ctrl-C in a terminal signals the whole process group: the parent and its workers
-    argv = ["reproduce", "fig4", "--runs", "2", "--workers", "2", "--quiet", "--out", "rep",
+    # Ctrl-C in a terminal signals the whole process group: the parent and its workers. It is
+    # sent once the worker running the third of 16 trials says so (a file) and holds its trial:
+    # workers are up and trials running (a fixed delay is not a fixed place: since the fast
+    # loop the whole run can end within one)
+    run, marker = tmp_path / "run", tmp_path / "held"
+    run.mkdir()
+    monkeypatch.setenv(HOLD_ENV, Fig4Config(runs=1).trials()[2].label)
+    monkeypatch.setenv(MARKER_ENV, str(marker))
+    argv = ["reproduce", "fig4", "--runs", "1", "--workers", "2", "--quiet", "--out", "rep",
             "--results", "RESULTS.md"]  # fmt: skip
-    started = {}
-
-    def working(proc) -> bool:  # workers up for a second: trials are running
-        if _has_workers(proc):
-            started.setdefault("t", time.monotonic())
-        return "t" in started and time.monotonic() - started["t"] > 1.0
-
-    code, out, err, children = _interrupt(argv, tmp_path, working, group=True)
+    code, out, err, children = _interrupt(
+        argv, run, lambda proc: marker.exists(), group=True, command=["-c", _HELD_REPRODUCE]
+    )
     assert (code, out, err) == (130, "", "hapticsim reproduce: interrupted\n")
     assert children and not _alive(children)
-    assert _files_under(tmp_path) == []
+    assert _files_under(run) == []
 
 
 # ----------------------------------------------------------------------------- while writing
