@@ -9,6 +9,7 @@ pending task with the same ``BrokenProcessPool`` and terminates the other worker
 from __future__ import annotations
 
 import multiprocessing
+import os
 import pickle
 import signal
 import traceback
@@ -31,6 +32,8 @@ from hapticsim.parallel.base import (
 
 #: Seconds a worker gets to exit after being asked to, before it is terminated.
 STOP_TIMEOUT: float = 2.0
+#: Seconds between an idle worker's checks that its parent is still alive.
+ORPHAN_CHECK: float = 1.0
 
 
 class SerialExecutor(Executor[T, R]):
@@ -83,8 +86,15 @@ def _worker_main(conn: Connection) -> None:
     """Loop of a worker process: receive ``(index, func, task)``, send ``(index, ok, payload)``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     limit_threads()
+    parent = os.getppid()
     while True:
         try:
+            # A parent killed outright (SIGKILL, the out-of-memory killer) closes no pipe that
+            # a forked sibling still holds a copy of, so recv() alone would wait for ever: an
+            # idle worker whose parent is gone (it was re-parented) exits.
+            while not conn.poll(ORPHAN_CHECK):
+                if os.getppid() != parent:
+                    return
             message = conn.recv()
         except (EOFError, OSError):
             return

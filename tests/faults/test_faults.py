@@ -35,6 +35,8 @@ KILL_ENV = "HAPTICSIM_TEST_DIE_ON"
 HOLD_ENV = "HAPTICSIM_TEST_HOLD_ON"
 SIGNAL_PID_ENV = "HAPTICSIM_TEST_SIGNAL_PID"
 MARKER_ENV = "HAPTICSIM_TEST_MARKER"
+#: File whose creation lets :func:`_hold_until_released` return.
+RELEASE_ENV = "HAPTICSIM_TEST_RELEASE"
 
 
 def _die_or_run_trial(trial):
@@ -57,6 +59,15 @@ def _interrupt_or_run_trial(trial):
             Path(os.environ[MARKER_ENV]).touch()
         time.sleep(300.0)  # the parent terminates this worker when it is interrupted
     return run_trial(trial)
+
+
+def _hold_until_released(task: int) -> int:
+    """Create the file ``MARKER_ENV.<task>``, then wait until RELEASE_ENV exists (<= 300 s)."""
+    Path(f"{os.environ[MARKER_ENV]}.{task}").touch()
+    release, deadline = Path(os.environ[RELEASE_ENV]), time.monotonic() + 300.0
+    while not release.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return task
 
 
 def _die_or_run_case(task):
@@ -113,6 +124,45 @@ def test_a_worker_killed_during_suite_run_names_the_case_and_writes_nothing(
     assert _files_under(tmp_path) == []
 
 
+_HELD_MAP = (
+    "from hapticsim.parallel import parallel_map\n"
+    "from tests.faults.test_faults import _hold_until_released\n"
+    "parallel_map(_hold_until_released, [0, 1], workers=2, progress=False)\n"
+)
+
+
+def test_the_workers_of_a_killed_parent_exit(tmp_path: Path) -> None:
+    # SIGKILL (the out-of-memory killer) runs no clean-up in the parent, and each forked worker
+    # holds copies of the pipes' parent ends: the workers must notice by themselves (they
+    # used to wait on their pipe for ever; found when a test's parent was killed)
+    marker, release = tmp_path / "up", tmp_path / "release"
+    env = os.environ | {"PYTHONPATH": str(REPO), MARKER_ENV: str(marker),
+                        RELEASE_ENV: str(release)}  # fmt: skip
+    proc = subprocess.Popen([sys.executable, "-c", _HELD_MAP], cwd=tmp_path, env=env)
+    workers: set[int] = set()
+    try:
+        deadline = time.monotonic() + 300
+        while not all(Path(f"{marker}.{i}").exists() for i in (0, 1)):
+            assert proc.poll() is None and time.monotonic() < deadline, "workers never started"
+            time.sleep(0.05)
+        workers = _children(proc.pid)
+        assert len(workers) == 2
+        proc.kill()
+        proc.wait()
+        release.touch()  # the tasks end; the workers find no parent
+        deadline = time.monotonic() + 60  # a bound on the wait, not a delay: ~1 s is usual
+        while _alive(workers) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not _alive(workers), "workers outlived their killed parent"
+    finally:
+        release.touch()
+        for pid in _alive(workers):
+            os.kill(pid, signal.SIGKILL)
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
 # ----------------------------------------------------------------------------- Ctrl-C
 def _children(pid: int) -> set[int]:
     """Child processes of `pid` (from /proc)."""
@@ -124,6 +174,13 @@ def _children(pid: int) -> set[int]:
             continue
         kids.update(int(k) for k in text.split())
     return kids
+
+
+def _default_sigint() -> None:
+    """In the child before exec: SIGINT handled by default, as under a terminal. A test run in
+    the background of a non-interactive shell inherits SIGINT ignored, and Python installs its
+    KeyboardInterrupt handler only where SIGINT is not ignored at start."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def _interrupt(
@@ -140,6 +197,7 @@ def _interrupt(
     proc = subprocess.Popen(
         [sys.executable, *command, *argv], cwd=cwd, env=env, text=True,
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=group,
+        preexec_fn=_default_sigint,
     )  # fmt: skip
     children: set[int] = set()
     deadline = time.monotonic() + timeout
@@ -158,6 +216,8 @@ def _interrupt(
         out, err = proc.communicate(timeout=120)
     finally:
         if proc.poll() is None:
+            if group:  # the workers too: they would keep the pipes open
+                os.killpg(proc.pid, signal.SIGKILL)
             proc.kill()
             proc.communicate()
     return proc.returncode, out, err, children
