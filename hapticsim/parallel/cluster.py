@@ -200,7 +200,8 @@ class DaskExecutor(Executor[T, R]):
                     )  # fmt: skip
                 self._client = Client(self._cluster, set_as_default=False)
             else:
-                _probe(self.scheduler, self.timeout)
+                if not self.scheduler.startswith("inproc://"):  # in-process: nothing to probe
+                    _probe(self.scheduler, self.timeout)
                 self._client = Client(self.scheduler, timeout=self.timeout, set_as_default=False)
                 self._client.wait_for_workers(1, timeout=self.timeout)
         except (OSError, TimeoutError) as exc:

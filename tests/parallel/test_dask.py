@@ -114,3 +114,33 @@ def test_a_server_that_is_not_a_scheduler_is_one_clear_error(impostor: str, mess
     ) as info:
         DaskExecutor(impostor, timeout=1.0).map(_draw, [1], progress=False)
     assert message in str(info.value)
+
+
+def test_reproduce_and_policy_comparisons_give_the_same_results_on_dask(
+    cluster: DaskExecutor,
+) -> None:
+    from hapticsim.envs.comparison import compare_policies
+    from hapticsim.envs.estimator import FitSchedule
+    from hapticsim.experiments.fig4 import Fig4Config
+    from hapticsim.experiments.trial import run_trial
+    from hapticsim.parallel import parallel_map
+
+    trials = Fig4Config(bodies=("cube",), methods=("LS", "nH"), runs=2, budget=600).trials()
+    serial = parallel_map(run_trial, trials, workers=1, progress=False)
+    remote = parallel_map(run_trial, trials, executor=cluster, progress=False)
+    assert [(r.estimate, r.epsilon, r.theta) for r in remote] == [
+        (r.estimate, r.epsilon, r.theta) for r in serial
+    ]
+    # compare_policies through a scheduler address (the LocalCluster's tcp:// scheduler)
+    settings = {
+        "episodes": 2, "progress": False, "backend": "analytic", "touch_budget": 3,
+        "fit": FitSchedule(full_budget=1500, refine_budget=200, full_every=10),
+    }  # fmt: skip
+    here = compare_policies(["random", "uncertainty"], ["paper"], workers=1, **settings)
+    address = cluster._cluster.scheduler_address
+    there = compare_policies(["random", "uncertainty"], ["paper"], scheduler=address, **settings)
+
+    def stable(episodes: tuple[dict, ...]) -> list[dict]:
+        return [{k: v for k, v in e.items() if k != "step_seconds"} for e in episodes]
+
+    assert stable(there.episodes) == stable(here.episodes)
