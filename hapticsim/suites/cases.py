@@ -25,7 +25,7 @@ from hapticsim.suites.suite import Case
 #: Quality measures of every case (SPEC §4), in table order.
 QUALITY: tuple[str, ...] = ("epsilon", "alpha", "beta", "iou", "chamfer", "theta")
 #: Keys of a case record that hold wall-clock times (left out of the metrics digest).
-TIMING_KEYS: tuple[str, ...] = ("seconds", "fit_seconds")
+TIMING_KEYS: tuple[str, ...] = ("seconds", "fit_seconds", "cpu_seconds")
 #: Values of a case record's ``status``.
 STATUSES: tuple[str, ...] = ("ok", "failed")
 
@@ -75,11 +75,12 @@ def run_case(task: CaseTask) -> dict[str, Any]:
         the case record: ``id``, ``group``, ``params``, ``status`` (``"ok"``/``"failed"``),
         ``error`` (None or one line), ``metrics`` (quality measures and what produced them;
         empty when failed), ``estimate`` and ``truth`` (SPEC §6 dicts, or None), ``seconds``
-        (wall time of the case [s]) and ``fit_seconds`` (of the fit alone [s], None without
-        a fit).
+        (wall time of the case [s]), ``fit_seconds`` (of the fit alone [s], None without
+        a fit) and ``cpu_seconds`` (CPU time of the worker process during the case [s]: on a
+        shared machine the figure that does not grow with the load).
     """
     case = task.case
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     record: dict[str, Any] = {
         "id": case.id, "group": case.group, "params": case.params, "status": "ok",
         "error": None, "metrics": {}, "estimate": None, "truth": None,
@@ -97,6 +98,7 @@ def run_case(task: CaseTask) -> dict[str, Any]:
         record.update(status="failed", error=f"{type(exc).__name__}: {detail}")
     record["seconds"] = time.perf_counter() - start
     record["fit_seconds"] = timing["fit"]
+    record["cpu_seconds"] = time.process_time() - cpu_start
     return record
 
 

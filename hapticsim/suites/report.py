@@ -31,13 +31,15 @@ def results_markdown(results: dict[str, Any], command: str) -> str:
         " (uncommitted changes)" if git.get("dirty") else ""
     )
     load = (summary.get("load_average") or {}).get("start")
+    cpu = summary.get("cpu_seconds")
+    cpu_text = "" if cpu is None else f", {cpu:.0f} s of CPU in the cases"
     lines = [
         f"## {suite['id']}",
         "",
         suite["description"],
         "",
-        f"{summary['cases']} cases ({summary['failed']} failed) in {summary['seconds']:.0f} s on "
-        f"{prov['engine']['engine']} with {prov['engine']['workers']} workers "
+        f"{summary['cases']} cases ({summary['failed']} failed) in {summary['seconds']:.0f} s"
+        f"{cpu_text} on {prov['engine']['engine']} with {prov['engine']['workers']} workers "
         f"({prov['machine']['cores']} cores, load average {load} at the start); hapticsim "
         f"{prov['hapticsim']}, commit {commit}. Made by `{command}`.",
         "",

@@ -6,15 +6,18 @@ The results file (JSON, written atomically, one line per case so that baselines 
      "suite": {"id": "fit-v1", "name": "fit", "version": 1, "kind": "fit", "cases": 640, ...},
      "selection": {"pattern": null, "cases": 640},
      "plugins": {"fitter": null, "policy": null},
-     "summary": {"cases", "ok", "failed", "seconds", "load_average", "metrics_sha256"},
+     "summary": {"cases", "ok", "failed", "seconds", "cpu_seconds", "load_average",
+                 "metrics_sha256"},
      "groups": {"cube/nH": {"cases", "ok", "failed", "mean": {...}, "median": {...}}, ...},
      "provenance": {"hapticsim", "git", "packages", "machine", "engine", "seeds", ...},
      "cases": [{"id", "group", "params", "status", "error", "metrics", "estimate", "truth",
-                "seconds", "fit_seconds"}, ...]}
+                "seconds", "fit_seconds", "cpu_seconds"}, ...]}
 
-Everything in a case record but ``seconds`` and ``fit_seconds`` is deterministic: the same suite,
+``summary.seconds`` is the run's wall time, ``summary.cpu_seconds`` the sum of the cases' CPU
+times (what the run costs whatever the load and the engine; ``load_average`` says how shared the
+machine was). Everything in a case record but its three times is deterministic: the same suite,
 code and packages give the same bytes on any engine and worker count. ``metrics_sha256`` is the
-SHA-256 of the case records without those two keys; equal digests mean identical results.
+SHA-256 of the case records without those three keys; equal digests mean identical results.
 """
 
 from __future__ import annotations
@@ -128,7 +131,9 @@ def run_suite(
     seconds = time.perf_counter() - clock
     results = _assemble(suite, selected, records, fitter, policy, cases)
     results["summary"].update(
-        seconds=round(seconds, 2), load_average={"start": load_start, "end": load_average()}
+        seconds=round(seconds, 2),
+        cpu_seconds=round(sum(r["cpu_seconds"] for r in records), 2),
+        load_average={"start": load_start, "end": load_average()},
     )
     results["provenance"] = provenance(description, suite.seed, command, started)
     results = _ordered(results)
@@ -218,6 +223,7 @@ def summary_line(results: dict[str, Any]) -> dict[str, Any]:
     return {
         "suite": results["suite"]["id"],
         "cases": s["cases"], "ok": s["ok"], "failed": s["failed"], "seconds": s["seconds"],
+        "cpu_seconds": s.get("cpu_seconds"),
         "engine": results["provenance"]["engine"],
         "metrics_sha256": s["metrics_sha256"],
         "mean_epsilon": {g: v["mean"]["epsilon"] for g, v in results["groups"].items()},

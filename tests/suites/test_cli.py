@@ -91,7 +91,9 @@ def test_results_file_layout_and_provenance(tiny: tuple[Path, Path]) -> None:
     assert case["id"] == "cube/LS/n=150/run=0" and case["status"] == "ok"
     for key in ("epsilon", "alpha", "beta", "iou", "chamfer", "theta"):
         assert isinstance(case["metrics"][key], float)
-    assert case["seconds"] > 0
+    assert case["seconds"] > 0 and 0 < case["cpu_seconds"]
+    cpu = sum(c["cpu_seconds"] for c in data["cases"])
+    assert data["summary"]["cpu_seconds"] == round(cpu, 2) > 0
     # one line per case record, so that committed baselines diff case by case
     assert sum(line.startswith('    {"id"') for line in baseline.read_text().splitlines()) == 16
 
