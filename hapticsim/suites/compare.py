@@ -112,6 +112,8 @@ class Comparison:
         paired: number of case ids in both files.
         not_in_baseline: ids of results cases the baseline does not have (not compared).
         baseline_commit, results_commit: the git commits recorded in the two files.
+        suite_file_changed: the two runs read suite files of different content (SHA-256) under
+            one id; the cases are still paired by id and parameters, and the table says so.
     """
 
     suite: str
@@ -122,6 +124,7 @@ class Comparison:
     not_in_baseline: tuple[str, ...] = ()
     baseline_commit: str | None = None
     results_commit: str | None = None
+    suite_file_changed: bool = False
 
     @property
     def regressions(self) -> tuple[str, ...]:
@@ -145,6 +148,7 @@ class Comparison:
             "paired": self.paired, "regressions": list(self.regressions),
             "improvements": list(self.improvements), "not_in_baseline": list(self.not_in_baseline),
             "baseline_commit": self.baseline_commit, "results_commit": self.results_commit,
+            "suite_file_changed": self.suite_file_changed,
             "groups": [g.to_dict() for g in self.groups],
         }  # fmt: skip
 
@@ -190,6 +194,11 @@ class Comparison:
             lines.append(f"improved: {', '.join(self.improvements)}")
         if self.not_in_baseline:
             lines.append(f"{len(self.not_in_baseline)} case(s) not in the baseline, not compared")
+        if self.suite_file_changed:
+            lines.append(
+                f"note: the suite file of {self.suite} changed between the two runs (another "
+                "SHA-256); cases were paired by id and parameters"
+            )
         return "\n".join(lines)
 
 
@@ -242,6 +251,14 @@ def compare_results(
             f"the baseline is of suite {base['suite']['id']} and the results of "
             f"{new['suite']['id']}: compare results of one suite and version"
         )
+    roots = [_field(d, "provenance", "seeds", "root") for d in (base, new)]
+    if None not in roots and roots[0] != roots[1]:
+        raise InvalidInputError(
+            f"the baseline ran suite {base['suite']['id']} with root seed {roots[0]} and the "
+            f"results with {roots[1]}: its cases saw different data (a changed suite file is a "
+            "new version)"
+        )
+    hashes = [d["suite"].get("sha256") for d in (base, new)]
     base_cases = {c["id"]: c for c in base["cases"]}
     new_cases = {c["id"]: c for c in new["cases"]}
     pattern = (new.get("selection") or {}).get("pattern")
@@ -270,11 +287,22 @@ def compare_results(
         suite=new["suite"]["id"], tolerance=tol, alpha=level, groups=changes, paired=len(paired),
         not_in_baseline=tuple(i for i in new_cases if i not in base_cases),
         baseline_commit=_commit(base), results_commit=_commit(new),
+        suite_file_changed=None not in hashes and hashes[0] != hashes[1],
     )  # fmt: skip
 
 
+def _field(data: Any, *keys: str) -> Any:
+    """``data[k1][k2]...``, or None where a level is missing or not a JSON object."""
+    for key in keys:
+        if not isinstance(data, Mapping):
+            return None
+        data = data.get(key)
+    return data
+
+
 def _commit(data: Mapping[str, Any]) -> str | None:
-    git = (data.get("provenance") or {}).get("git") or {}
+    git = _field(data, "provenance", "git")
+    git = git if isinstance(git, Mapping) else {}
     commit = git.get("commit")
     return f"{commit}{'+dirty' if git.get('dirty') else ''}" if commit else None
 

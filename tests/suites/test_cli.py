@@ -200,10 +200,14 @@ def test_bad_compare_input_is_one_line_exit_2(
     partial.write_text(json.dumps({**data, "cases": data["cases"][:5]}))
     not_results = tmp_path / "x.json"
     not_results.write_text('{"a": 1}')
+    reseeded = tmp_path / "reseeded.json"
+    seeds = {**data["provenance"]["seeds"], "root": 5}
+    reseeded.write_text(json.dumps({**data, "provenance": {**data["provenance"], "seeds": seeds}}))
     for path, fragment in (
         (other, "the baseline is of suite tiny-v1 and the results of tiny-v2"),
         (partial, "the results lack 11 case(s) of the baseline"),
         (not_results, "is not a suite results file"),
+        (reseeded, "with root seed 0 and the results with 5: its cases saw different data"),
         (tmp_path / "missing.json", "file not found"),
     ):
         code, stdout, err = _run(capsys, "suite", "compare", str(baseline), str(path))
@@ -244,3 +248,16 @@ def test_assert_no_regression(tiny: tuple[Path, Path]) -> None:
     assert comparison.regressions == () and comparison.paired == 8
     with pytest.raises(AssertionError, match="REGRESSION in 1 group.*cube/nH"):
         assert_no_regression(suite, baseline, fitter=least_squares_fit, cases="*/nH/*", workers=2)
+
+
+def test_a_changed_suite_file_is_noted(
+    tiny: tuple[Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _, baseline = tiny
+    data = json.loads(baseline.read_text())
+    edited = tmp_path / "edited.json"  # e.g. a comment edited in the suite file
+    edited.write_text(json.dumps({**data, "suite": {**data["suite"], "sha256": "0" * 64}}))
+    code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(edited))
+    assert code == 0 and "note: the suite file of tiny-v1 changed between the two runs" in out
+    code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(baseline), "--json")
+    assert code == 0 and json.loads(out)["suite_file_changed"] is False
