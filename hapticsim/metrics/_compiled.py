@@ -166,6 +166,11 @@ def _radial_point(
     return x, y, zs, nx / norm, ny / norm, nz / norm
 
 
+#: Sine of the angle between q - p and the normal at which :func:`_foot_search` stops early
+#: (p is then the foot point to about 1e-8 of the distance).
+_CONVERGED: float = 1e-8
+
+
 @njit(**_INLINE)
 def _foot_search(
     qx: float,
@@ -193,6 +198,8 @@ def _foot_search(
         if dist < best:
             best = dist
             off = math.sqrt(max(dist * dist - along * along, 0.0)) / dist if dist > 0.0 else 0.0
+        if off < _CONVERGED:  # q - p along the normal: a foot point, the next step returns p
+            break
         sx, sy, sz = qx - along * nx, qy - along * ny, qz - along * nz
     return best, off
 
