@@ -34,6 +34,8 @@ def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> P
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     except OSError as exc:
         raise InvalidInputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    with contextlib.suppress(OSError):  # mkstemp makes 0600; give what open() would have
+        os.fchmod(fd, _file_mode(path))
     staging = _OUTPUT_SET.get()
     try:
         with os.fdopen(fd, mode) as fh:
@@ -49,6 +51,25 @@ def atomic_write(path: str | Path, write: Callable[[Any], None], mode: str) -> P
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def _process_umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+#: The process's umask, read once at import (reading it means setting it).
+_UMASK = _process_umask()
+
+
+def _file_mode(path: Path) -> int:
+    """The permission bits ``open(path, "w")`` would leave: an existing file's own, else
+    0666 less the umask."""
+    try:
+        return path.stat().st_mode & 0o7777
+    except OSError:
+        return 0o666 & ~_UMASK
 
 
 _OUTPUT_SET: ContextVar[OutputSet | None] = ContextVar("hapticsim_output_set", default=None)

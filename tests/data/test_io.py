@@ -163,3 +163,19 @@ def test_contacts_validate_their_arrays() -> None:
         Contacts(points=np.zeros((3, 3)), extra={"finger": np.arange(2)})
     c = Contacts(points=np.zeros((3, 3)), normals=2 * np.eye(3))
     np.testing.assert_allclose(np.linalg.norm(c.normals, axis=1), 1.0)
+
+
+def test_written_files_get_the_permissions_open_would_give(tmp_path: Path) -> None:
+    import os
+    import stat
+
+    from hapticsim._files import write_json
+
+    mask = os.umask(0o022)
+    os.umask(mask)
+    write_json(tmp_path / "new.json", {"a": 1})  # mkstemp's 0600 would hide it from others
+    assert stat.S_IMODE((tmp_path / "new.json").stat().st_mode) == 0o666 & ~mask
+    (tmp_path / "old.json").write_text("{}")
+    (tmp_path / "old.json").chmod(0o640)
+    write_json(tmp_path / "old.json", {"a": 2})  # an existing file keeps its mode
+    assert stat.S_IMODE((tmp_path / "old.json").stat().st_mode) == 0o640
