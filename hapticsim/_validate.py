@@ -133,7 +133,13 @@ def normals_array(value: Any, count: int, name: str = "normals") -> NDArray[np.f
         raise InvalidInputError(
             f"`{name}` must have one row per point ({count}), got {arr.shape[0]}"
         )
-    norm = np.linalg.norm(arr, axis=1)
+    with np.errstate(over="ignore"):  # squares of 1e300 overflow: such rows are redone below
+        norm = np.linalg.norm(arr, axis=1)
+    huge = ~np.isfinite(norm)
+    if np.any(huge):  # scaled by their largest component first (the others stay bit for bit)
+        arr = arr.copy()
+        arr[huge] /= np.max(np.abs(arr[huge]), axis=1)[:, None]
+        norm[huge] = np.linalg.norm(arr[huge], axis=1)
     if np.any(norm < 1e-12):
         bad = int(np.argmax(norm < 1e-12))
         raise InvalidInputError(f"`{name}` row {bad} has zero length")

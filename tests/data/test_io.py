@@ -179,3 +179,17 @@ def test_written_files_get_the_permissions_open_would_give(tmp_path: Path) -> No
     (tmp_path / "old.json").chmod(0o640)
     write_json(tmp_path / "old.json", {"a": 2})  # an existing file keeps its mode
     assert stat.S_IMODE((tmp_path / "old.json").stat().st_mode) == 0o640
+
+
+def test_huge_normals_are_normalised_without_overflow(tmp_path: Path) -> None:
+    # found by the fuzz test in a full run: |n|^2 of 1e300 overflowed with a RuntimeWarning
+    rng = np.random.default_rng(0)
+    points = rng.normal(0.0, 0.03, (13, 3))
+    normals = rng.normal(size=(13, 3))
+    unit = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    normals[3] *= 1e300
+    np.savez(tmp_path / "c.npz", points=points, normals=normals)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        contacts = read_contacts(tmp_path / "c.npz")
+    np.testing.assert_allclose(contacts.normals, unit, atol=1e-15)
