@@ -45,7 +45,7 @@ import math
 import numpy as np
 from llvmlite import ir
 from numba import njit, types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, overload
 
 from hapticsim._jit_cache import ensure_fresh
 from hapticsim.constants import MIN_TAPER_FACTOR
@@ -971,20 +971,71 @@ def ml_jacobian_vector(
 MODEL_EOF, MODEL_ML = 0, 1
 
 
+def _is_ml(problem: types.Type) -> bool:
+    """Whether a problem tuple's numba type is of the ML residuals (its settings an array; the
+    paper EOF's problems carry None there). Dispatching on the *type* compiles each least
+    squares and genetic algorithm once per residual model, with only that model's code: an nH
+    fit no longer compiles the ML residuals and Jacobian (which tripled the first fit's JIT)."""
+    return not isinstance(problem.types[6], types.NoneType)
+
+
+def _length(problem):  # pragma: no cover - replaced by the overload below in compiled code
+    raise NotImplementedError
+
+
+@overload(_length, jit_options=JIT)
+def _length_model(problem):
+    if _is_ml(problem):
+
+        def ml(problem):
+            points, _, with_normals, _, _, _, _, free = problem
+            return ml_residual_count(points.shape[1], with_normals, free.shape[1])
+
+        return ml
+
+    def eof(problem):
+        return problem[0].shape[1]
+
+    return eof
+
+
 @njit(**JIT)
 def residual_length(problem: tuple) -> int:
     """Length m of the residual vector of a problem.
 
     A *problem* is the tuple ``(points (3, n), normals (3, n), with_normals, lam, tapered,
-    model, settings (ML_SETTINGS,), free (3, f))``: the paper's EOF (``model == MODEL_EOF``:
-    `lam`, `tapered` used, m = n) or the ML residuals (``MODEL_ML``: `settings`, `free` used).
-    The least squares minimise ``sum(r^2)`` and the genetic algorithm ranks by ``sum(r^2) / n``
-    of whichever it is.
+    model, settings, free (3, f))``: the paper's EOF (``model == MODEL_EOF``, `settings` None:
+    `lam`, `tapered` used, m = n) or the ML residuals (``MODEL_ML``, `settings` an
+    (ML_SETTINGS,) array: `settings`, `free` used). The least squares minimise ``sum(r^2)`` and
+    the genetic algorithm ranks by ``sum(r^2) / n`` of whichever it is.
     """
-    points, _, with_normals, _, _, model, _, free = problem
-    if model == MODEL_ML:
-        return ml_residual_count(points.shape[1], with_normals, free.shape[1])
-    return points.shape[1]
+    return _length(problem)
+
+
+def _posed(problem, a, eps, taper, rot, center, out, tally):  # pragma: no cover
+    raise NotImplementedError
+
+
+@overload(_posed, jit_options=JIT)
+def _posed_model(problem, a, eps, taper, rot, center, out, tally):
+    if _is_ml(problem):
+
+        def ml(problem, a, eps, taper, rot, center, out, tally):
+            points, normals, with_normals, _, _, _, settings, free = problem
+            ml_residuals_posed(
+                points, normals, with_normals, a, eps, taper, rot, center, settings, free, out,
+                tally,
+            )  # fmt: skip
+
+        return ml
+
+    def eof(problem, a, eps, taper, rot, center, out, tally):
+        points, normals, with_normals, lam, tapered, _, _, _ = problem
+        residuals_posed(
+            points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally
+        )
+
+    return eof
 
 
 @njit(**JIT)
@@ -993,15 +1044,28 @@ def problem_residuals_posed(
     center: np.ndarray, out: np.ndarray, tally: np.ndarray,
 ) -> None:  # fmt: skip
     """Residuals (P, m) of P posed bodies into `out` (see :func:`residual_length`)."""
-    points, normals, with_normals, lam, tapered, model, settings, free = problem
-    if model == MODEL_ML:
-        ml_residuals_posed(
-            points, normals, with_normals, a, eps, taper, rot, center, settings, free, out, tally
-        )
-    else:
-        residuals_posed(
-            points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally
-        )
+    _posed(problem, a, eps, taper, rot, center, out, tally)
+
+
+def _vectors(problem, vectors, out, tally):  # pragma: no cover
+    raise NotImplementedError
+
+
+@overload(_vectors, jit_options=JIT)
+def _vectors_model(problem, vectors, out, tally):
+    if _is_ml(problem):
+
+        def ml(problem, vectors, out, tally):
+            points, normals, with_normals, _, _, _, settings, free = problem
+            ml_residuals_vectors(points, normals, with_normals, vectors, settings, free, out, tally)
+
+        return ml
+
+    def eof(problem, vectors, out, tally):
+        points, normals, with_normals, lam, tapered, _, _, _ = problem
+        residuals_vectors(points, normals, with_normals, vectors, lam, tapered, out, tally)
+
+    return eof
 
 
 @njit(**JIT)
@@ -1009,11 +1073,30 @@ def problem_residuals(
     problem: tuple, vectors: np.ndarray, out: np.ndarray, tally: np.ndarray
 ) -> None:
     """Residuals (P, m) of P parameter vectors (P, 13) into `out`."""
-    points, normals, with_normals, lam, tapered, model, settings, free = problem
-    if model == MODEL_ML:
-        ml_residuals_vectors(points, normals, with_normals, vectors, settings, free, out, tally)
-    else:
-        residuals_vectors(points, normals, with_normals, vectors, lam, tapered, out, tally)
+    _vectors(problem, vectors, out, tally)
+
+
+def _jacobian(problem, x, r_out, jac_t, tally):  # pragma: no cover
+    raise NotImplementedError
+
+
+@overload(_jacobian, jit_options=JIT)
+def _jacobian_model(problem, x, r_out, jac_t, tally):
+    if _is_ml(problem):
+
+        def ml(problem, x, r_out, jac_t, tally):
+            points, normals, with_normals, _, _, _, settings, free = problem
+            ml_jacobian_vector(
+                points, normals, with_normals, x, settings, free, r_out, jac_t, tally
+            )
+
+        return ml
+
+    def eof(problem, x, r_out, jac_t, tally):
+        points, normals, with_normals, lam, tapered, _, _, _ = problem
+        jacobian_vector(points, normals, with_normals, x, lam, tapered, r_out, jac_t, tally)
+
+    return eof
 
 
 @njit(**JIT)
@@ -1021,8 +1104,4 @@ def problem_jacobian(
     problem: tuple, x: np.ndarray, r_out: np.ndarray, jac_t: np.ndarray, tally: np.ndarray
 ) -> None:
     """Residuals (m,) and transposed Jacobian (13, m) of one vector (counts 13 evaluations)."""
-    points, normals, with_normals, lam, tapered, model, settings, free = problem
-    if model == MODEL_ML:
-        ml_jacobian_vector(points, normals, with_normals, x, settings, free, r_out, jac_t, tally)
-    else:
-        jacobian_vector(points, normals, with_normals, x, lam, tapered, r_out, jac_t, tally)
+    _jacobian(problem, x, r_out, jac_t, tally)

@@ -84,13 +84,15 @@ class ContactSet:
             ``(points, normals, with_normals, lam, tapered, model, settings, free)`` (see
             :func:`hapticsim.geometry._eof_compiled.residual_length`).
         """
-        model = kernel.MODEL_EOF if settings is None else kernel.MODEL_ML
-        ml = np.zeros(kernel.ML_SETTINGS) if settings is None else np.asarray(settings, np.float64)
+        pts = np.zeros((3, 0)) if free is None else np.asarray(free, dtype=np.float64).T
+        if settings is None:  # None, not an array: the compiled code specialises on its type
+            return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
+                    kernel.MODEL_EOF, None, np.ascontiguousarray(pts))  # fmt: skip
+        ml = np.asarray(settings, np.float64)
         if ml.shape != (kernel.ML_SETTINGS,):
             raise InvalidInputError(f"`settings` must be ({kernel.ML_SETTINGS},), got {ml.shape}")
-        pts = np.zeros((3, 0)) if free is None else np.asarray(free, dtype=np.float64).T
-        return (self.points, self.normals, self.with_normals, float(lam), bool(tapered), model,
-                np.ascontiguousarray(ml), np.ascontiguousarray(pts))  # fmt: skip
+        return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
+                kernel.MODEL_ML, np.ascontiguousarray(ml), np.ascontiguousarray(pts))  # fmt: skip
 
     def problem_residuals(self, problem: tuple, vectors: Array) -> Array:
         """Residual vectors (P, m) of a :meth:`problem` at P parameter vectors (P, 13)."""
