@@ -91,6 +91,17 @@ def _seed(text: str) -> int:
     return value
 
 
+def _positive_int(text: str) -> int:
+    """argparse type of counts (``--episodes``, ``--touches``, ``--workers``): an int >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return value
+
+
 def _print_json(data: Any) -> None:
     sys.stdout.write(json.dumps(data, indent=2) + "\n")
     sys.stdout.flush()
@@ -285,6 +296,53 @@ def _add_suite_parser(sub: Any) -> None:
     p.set_defaults(func=_cmd_suite_compare)
 
 
+def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
+    from hapticsim.envs.comparison import evaluate_policy
+
+    result = evaluate_policy(
+        args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
+        touches=args.touches, seed=args.seed, workers=args.workers, progress=not args.quiet,
+    )  # fmt: skip
+    _print_json(result)
+    return 0
+
+
+def _policies_epilog() -> str:
+    from hapticsim.envs.policies import POLICY_NAMES
+
+    return (
+        f"policies (--policy): {', '.join(POLICY_NAMES)}, or learned:PATH (a weight file made by "
+        "scripts/train_policy.py). Episode i uses seed SEED + i: every policy meets the same "
+        "objects, rough positions and noise, so results pair episode by episode."
+    )
+
+
+def _add_policies_parser(sub: Any) -> None:
+    """``hapticsim policies evaluate`` (exploration policies on HapticExplore-v0, SPEC §6)."""
+    from hapticsim.envs.haptic_explore_v0 import BACKENDS
+    from hapticsim.envs.objects import OBJECT_KINDS
+
+    policies = sub.add_parser("policies", help="exploration policies: evaluate one (JSON)")
+    cmds = policies.add_subparsers(dest="policies_command", required=True, parser_class=_Parser)
+    p = cmds.add_parser(
+        "evaluate", help="epsilon after 1..T touches of a policy over many objects (JSON)"
+    )
+    p.lazy_epilog = _policies_epilog
+    p.add_argument("--policy", required=True, help="random, paper, uncertainty, learned or "
+                   "learned:PATH")  # fmt: skip
+    p.add_argument("--backend", choices=BACKENDS, default="analytic")
+    p.add_argument("--objects", choices=OBJECT_KINDS, default="random")
+    p.add_argument("--episodes", type=_positive_int, default=50, help="episodes (default 50)")
+    p.add_argument("--touches", type=_positive_int, default=10, help="touches per episode "
+                   "(default 10)")  # fmt: skip
+    p.add_argument("--seed", type=_seed, default=0, help="root seed: episode i uses SEED + i")
+    p.add_argument(
+        "--workers", type=_positive_int, default=None, help="processes (default: all cores)"
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_policies_evaluate)
+
+
 # ----------------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``hapticsim`` (exposed for tests and docs)."""
@@ -400,6 +458,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_reproduce)
 
     _add_suite_parser(sub)
+    _add_policies_parser(sub)
     return parser
 
 
@@ -416,7 +475,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(args.func(args))
     except HapticsimError as exc:
         message = " ".join(str(exc).split())
-        words = (getattr(args, "command", None), getattr(args, "suite_command", None))
+        sub = getattr(args, "suite_command", None) or getattr(args, "policies_command", None)
+        words = (getattr(args, "command", None), sub)
         command = " ".join(filter(None, ("hapticsim", *words)))
         sys.stderr.write(f"{command}: error: {message}\n")
         return EXIT_BAD_INPUT

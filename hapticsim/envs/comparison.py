@@ -4,7 +4,8 @@
 (:mod:`hapticsim.parallel`: local processes or a Dask cluster; seeds depend only on the episode,
 so results do not depend on the engine or the worker count, and every policy meets the same
 objects, noise and rough positions); :func:`write_comparison` writes the table (CSV and
-Markdown), the plot (PNG) and the raw numbers (JSON).
+Markdown), the plot (PNG) and the raw numbers (JSON). :func:`evaluate_policy` is one policy on
+one object set, as ``hapticsim policies evaluate`` prints it (SPEC §6).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ POLICY_STYLE: dict[str, dict[str, Any]] = {
     "random": {"color": "tab:gray", "marker": "o"},
     "paper": {"color": "tab:green", "marker": "s"},
     "uncertainty": {"color": "tab:red", "marker": "^"},
+    "learned": {"color": "tab:blue", "marker": "D"},
 }
 
 
@@ -37,11 +39,15 @@ class ComparisonTask:
     """One episode of the comparison (picklable, for the worker processes).
 
     Attributes:
-        policy: policy name (:data:`hapticsim.envs.policies.POLICY_NAMES`).
+        policy: policy name (:data:`hapticsim.envs.policies.POLICY_NAMES` or ``learned:PATH``).
         objects: object distribution kind.
         episode: episode index; the environment's seed is ``seed + episode``.
         seed: root seed.
         env_kwargs: keyword arguments of the environment (backend, budget, ...).
+        fresh_env: run the episode in a new environment instead of the worker's cached one
+            (then an episode's numbers do not depend on which episodes its worker ran before:
+            the environment scores the first episode of an instance with differently drawn
+            Monte Carlo samples, about 0.003 in epsilon, than the later ones).
     """
 
     policy: str
@@ -49,6 +55,7 @@ class ComparisonTask:
     episode: int
     seed: int
     env_kwargs: dict[str, Any] = field(default_factory=dict)
+    fresh_env: bool = False
 
     @property
     def label(self) -> str:
@@ -65,13 +72,16 @@ def run_task(task: ComparisonTask) -> dict[str, Any]:
     from hapticsim.envs.policies import make_policy, run_episode
 
     key = (task.objects, tuple(sorted(task.env_kwargs.items())))
-    env = _ENVS.get(key)
+    env = None if task.fresh_env else _ENVS.get(key)
     if env is None:  # one environment per worker and setting, reused across episodes
         env = HapticExploreEnv(objects=task.objects, **task.env_kwargs)
-        _ENVS[key] = env
+        if not task.fresh_env:
+            _ENVS[key] = env
     seed = task.seed + task.episode
     policy = make_policy(task.policy, env, rng=seed)
     record = run_episode(env, policy, seed=seed, policy_seed=seed)
+    if task.fresh_env:
+        env.close()
     return {
         "policy": task.policy,
         "objects": task.objects,
@@ -156,35 +166,41 @@ def compare_policies(
     workers: int | None = 2,
     progress: bool = True,
     scheduler: str | None = None,
+    fresh_envs: bool = False,
     **env_kwargs: Any,
 ) -> Comparison:
     """Run every policy on the same `episodes` objects of each object set.
 
     Args:
-        policies: policy names.
+        policies: policy names (:data:`~hapticsim.envs.policies.POLICY_NAMES` or
+            ``learned:PATH``; weight files are checked before any episode runs).
         object_sets: object distribution kinds (``"paper"``, ``"random"``, ``"random_tapered"``).
         episodes: episodes per (policy, object set); episode i uses seed ``seed + i``.
         seed: root seed.
         workers: processes (default 2); ignored with `scheduler`.
         progress: show a progress bar on stderr.
         scheduler: run on a Dask cluster instead (``tcp://host:port`` or ``local:N``).
+        fresh_envs: a new environment per episode (:class:`ComparisonTask`), so that results do
+            not depend on the worker count.
         **env_kwargs: environment settings (``backend``, ``touch_budget``, ``noise``, ...).
 
     Returns:
         The comparison.
     """
     from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
-    from hapticsim.envs.policies import POLICY_NAMES
+    from hapticsim.envs.policies import check_policy_name, learned_path, load_learned
     from hapticsim.parallel import parallel_map
 
-    unknown = [p for p in policies if p not in POLICY_NAMES]
-    if unknown:
-        raise InvalidInputError(f"`policies` must be names from {POLICY_NAMES}, got {unknown}")
-    if episodes < 1:
-        raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
+    for p in policies:
+        check_policy_name(p)
+    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
+        raise InvalidInputError(f"`episodes` must be an int >= 1, got {episodes!r}")
     config = HapticExploreConfig(**env_kwargs)  # validates the settings up front
+    for p in policies:
+        if p.startswith("learned"):  # the weight file fits these settings
+            load_learned(learned_path(p), config)
     tasks = [
-        ComparisonTask(p, o, i, seed, dict(env_kwargs))
+        ComparisonTask(p, o, i, seed, dict(env_kwargs), fresh_envs)
         for o in object_sets
         for i in range(episodes)
         for p in policies
@@ -200,6 +216,60 @@ def compare_policies(
     return Comparison(
         tuple(policies), tuple(object_sets), config.touch_budget, tuple(results), settings
     )
+
+
+def evaluate_policy(
+    policy: str,
+    backend: str = "analytic",
+    objects: str = "random",
+    episodes: int = 50,
+    touches: int = 10,
+    seed: int = 0,
+    workers: int | None = 1,
+    progress: bool = True,
+    **env_kwargs: Any,
+) -> dict[str, Any]:
+    """One policy's epsilon after 1..touches touches on `episodes` objects (SPEC §6).
+
+    Episode i runs in a new environment seeded ``seed + i``: every policy evaluated with the same
+    seed meets the same objects, rough positions and noise streams, so two results pair episode by
+    episode, and the numbers do not depend on `workers`.
+
+    Args:
+        policy: a policy name (:data:`~hapticsim.envs.policies.POLICY_NAMES`, ``learned:PATH``).
+        backend: ``"analytic"`` or ``"mujoco"``.
+        objects: object distribution kind (``"paper"``, ``"random"``, ``"random_tapered"``).
+        episodes: number of episodes, >= 1.
+        touches: touches per episode (the environment's budget), >= 1.
+        seed: root seed, >= 0.
+        workers: processes (:mod:`hapticsim.parallel`).
+        progress: progress bar on stderr.
+        **env_kwargs: further environment settings (noise, fit schedule, ...).
+
+    Returns:
+        ``{"policy", "backend", "objects", "episodes", "touches", "seed", "epsilon": {"mean",
+        "std", "median"}, "episodes_epsilon"}``; the lists run over touch counts 1..touches
+        (std with ddof 1), ``episodes_epsilon[i][n - 1]`` is episode i's epsilon after n touches.
+    """
+    from hapticsim._validate import positive_int
+    from hapticsim.envs.objects import OBJECT_KINDS
+
+    if objects not in OBJECT_KINDS:
+        raise InvalidInputError(f"`objects` must be one of {OBJECT_KINDS}, got {objects!r}")
+    seed = positive_int(seed, "seed", minimum=0)
+    touches = positive_int(touches, "touches")
+    cmp = compare_policies(
+        [policy], [objects], episodes, seed=seed, workers=workers, progress=progress,
+        fresh_envs=True, backend=backend, touch_budget=touches, **env_kwargs,
+    )  # fmt: skip
+    summary = cmp.summary(policy, objects)
+    table = cmp.epsilon(policy, objects)
+    return {
+        "policy": policy, "backend": backend, "objects": objects, "episodes": episodes,
+        "touches": touches, "seed": seed,
+        "epsilon": {k: [float(v) for v in summary[k]] for k in ("mean", "std", "median")},
+        "episodes_epsilon": [[float(v) for v in row] for row in table],
+    }  # fmt: skip
 
 
 def load_comparison(path: str | Path) -> Comparison:

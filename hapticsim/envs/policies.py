@@ -12,30 +12,43 @@ stroke length, finger count, budget), never the ground truth:
   estimate) lies farthest from every contact so far, then stroke towards the least supported
   neighbourhood. Before the first fit, a sphere around the rough position stands in for the
   estimate.
+- :class:`LearnedPolicy`: a trained actor (:mod:`hapticsim.envs.learned`, numpy only) on the
+  compact observation of ``HapticExplore-v1``
+  (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
+  the v0 observation. ``"learned"`` is the actor shipped in the package (trained by
+  ``scripts/train_policy.py``; recipe and results in ``docs/policies/learned/``),
+  ``"learned:PATH"`` any weight file.
 
-All take ``rng`` (seed or generator) and are deterministic given it.
+All take ``rng`` (seed or generator) and are deterministic given it (the learned policy is
+deterministic and ignores it).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.envs.analytic import raycast_many
-from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv, decode_fit, fibonacci_sphere
+from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv, fibonacci_sphere
+from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.touch import encode_touch, tangent_frame
-from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 
 Array = NDArray[np.float64]
 Observation = dict[str, np.ndarray]
 
-#: Names of the baseline policies (:func:`make_policy`).
-POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty")
+#: Names of the policies (:func:`make_policy`); ``"learned:PATH"`` names a weight file too.
+POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty", "learned")
+#: Prefix of a policy name that gives a weight file: ``"learned:PATH"``.
+LEARNED_PREFIX: str = "learned:"
+#: The weight file of the shipped ``"learned"`` policy.
+LEARNED_WEIGHTS: Path = Path(__file__).with_name("data") / "learned_policy.npz"
 
 
 class Policy:
@@ -197,18 +210,10 @@ class UncertaintyPolicy(Policy):
         self._finger = 0
 
     def _contacts(self, obs: Observation) -> Array:
-        mask = np.asarray(obs["mask"], dtype=bool)
-        return np.asarray(obs["points"], dtype=np.float64)[mask] * self.config.obs_scale
+        return observed_contacts(obs, self.config.obs_scale)
 
-    def _estimate(self, obs: Observation, contacts: Array) -> Superquadric:
-        if int(obs["fit_valid"][0]):
-            try:
-                return decode_fit(obs["fit"], self.config.obs_scale)
-            except HapticsimError:
-                pass
-        r = float(np.mean(np.linalg.norm(contacts, axis=1))) if len(contacts) else 0.0
-        r = max(r, 0.25 * self.initial_radius) if len(contacts) else self.initial_radius
-        return Superquadric(a=(r, r, r), eps=(1.0, 1.0))
+    def _estimate(self, obs: Observation) -> Superquadric:
+        return estimate_from_observation(obs, self.config.obs_scale, self.initial_radius)
 
     def _candidates(self, estimate: Superquadric) -> _Candidates:
         from hapticsim.geometry import random_rotation
@@ -223,7 +228,7 @@ class UncertaintyPolicy(Policy):
         contacts = self._contacts(obs)
         if self._last is not None and len(contacts) == self._last_count:
             self._failed.append(self._last)  # the previous touch brought nothing
-        estimate = self._estimate(obs, contacts)
+        estimate = self._estimate(obs)
         cand = self._candidates(estimate)
         keep = np.ones(len(cand.points), dtype=bool)
         if int(obs["fit_valid"][0]):
@@ -268,17 +273,145 @@ def _distance_to_set(points: Array, contacts: Array) -> Array:
     return np.sqrt(d2.min(axis=1))
 
 
+class LearnedPolicy(Policy):
+    """A trained actor on the compact observation of ``HapticExplore-v1``; deterministic.
+
+    On a v0 environment (the comparisons, ``hapticsim policies evaluate``, the suites) it makes
+    the v1 observation itself with a :class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`
+    (from the v0 observation and its own past approaches: exactly what the v1 environment
+    shows) and returns the v0 action of its v1 action
+    (:func:`~hapticsim.envs.haptic_explore_v1.v0_action`: the fingers in turn); on a v1
+    environment it acts on the observation directly.
+
+    Args:
+        env: the environment (``HapticExplore-v0`` or ``-v1``; configuration only).
+        rng: ignored (the actor is deterministic); accepted for the common interface.
+        path: the weight file (default: the shipped one, :data:`LEARNED_WEIGHTS`).
+
+    Raises:
+        InvalidInputError: a missing or malformed weight file, one trained for another
+            environment version, observation or action size, or for other observation or action
+            settings than the environment's (``obs_scale``, ``max_stroke``, ``stroke_spacing``);
+            the message says what it was trained for.
+    """
+
+    name = "learned"
+
+    def __init__(
+        self,
+        env: Any,
+        rng: np.random.Generator | int | None = None,
+        path: str | Path | None = None,
+    ) -> None:
+        from hapticsim.envs import haptic_explore_v1 as v1
+
+        base = env.unwrapped
+        self.on_v1 = isinstance(base, v1.HapticExploreV1Env)
+        self.config = base.config.base if self.on_v1 else base.config
+        self.n_fingers = base.n_fingers
+        self.action_space = base.action_space
+        self.rng = np.random.default_rng(rng)
+        self.actor = load_learned(path, self.config)
+        self.path = LEARNED_WEIGHTS if path is None else Path(path)
+        self.observer = v1.CompactObserver(self.config.obs_scale)
+        self._last: Array | None = None
+
+    @property
+    def meta(self) -> dict[str, Any]:
+        """What the weights were trained for, and how (the weight file's record)."""
+        return dict(self.actor.meta)
+
+    def reset(self, rng: np.random.Generator | int | None = None) -> None:  # noqa: D102
+        super().reset(rng)
+        self._last = None
+
+    def __call__(self, obs: Any) -> NDArray[np.float32]:
+        from hapticsim.envs import haptic_explore_v1 as v1
+
+        if self.on_v1:
+            return self.actor(obs)
+        touches = int(round(float(obs["touches"][0])))
+        if touches == 0 or self._last is None:  # an episode's first touch
+            features = self.observer.reset(obs)
+        else:
+            features = self.observer.update(obs, self._last)
+        action, self._last = v1.v0_action(
+            self.actor(features), touches, self.config.max_stroke, self.n_fingers
+        )
+        return action
+
+
+def load_learned(path: str | Path | None, config: Any = None):  # noqa: ANN201 - learned.Actor
+    """The actor of a weight file, checked for ``HapticExplore-v1`` and an environment config.
+
+    Args:
+        path: the weight file; None: the shipped one (:data:`LEARNED_WEIGHTS`).
+        config: a :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreConfig` whose
+            observation and action settings must be the trained ones (None: not checked).
+
+    Raises:
+        InvalidInputError: see :class:`LearnedPolicy`.
+    """
+    from hapticsim.envs import haptic_explore_v1 as v1
+    from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
+
+    if path is None:
+        path = LEARNED_WEIGHTS
+        if not path.is_file():
+            raise InvalidInputError(
+                f"the shipped learned policy {str(path)!r} is missing from this installation"
+            )
+    actor = load_actor(path, env_id=v1.ENV_ID, obs_dim=v1.OBS_DIM, action_dim=v1.ACTION_DIM_V1)
+    if config is not None:
+        actor.check_settings({k: getattr(config, k) for k in MEANING_SETTINGS})
+    return actor
+
+
+def learned_path(name: str) -> Path | None:
+    """The weight file a policy name gives: None for ``"learned"`` (the shipped one), PATH for
+    ``"learned:PATH"``; raises for other names (:func:`check_policy_name`)."""
+    check_policy_name(name)
+    if name == "learned":
+        return None
+    if not name.startswith(LEARNED_PREFIX):
+        raise InvalidInputError(f"`policy` {name!r} is not a learned policy")
+    return Path(name[len(LEARNED_PREFIX) :])
+
+
 POLICIES: dict[str, type[Policy]] = {
     "random": RandomPolicy,
     "paper": PaperPolicy,
     "uncertainty": UncertaintyPolicy,
+    "learned": LearnedPolicy,
 }
 
 
+def check_policy_name(name: Any) -> str:
+    """`name` if it names a policy: one of :data:`POLICY_NAMES`, or ``"learned:PATH"``.
+
+    Raises:
+        InvalidInputError: naming the choices.
+    """
+    if isinstance(name, str) and (
+        name in POLICIES or (name.startswith(LEARNED_PREFIX) and len(name) > len(LEARNED_PREFIX))
+    ):
+        return name
+    raise InvalidInputError(
+        f"`policy` must be one of {POLICY_NAMES} or '{LEARNED_PREFIX}PATH' (a weight file), got "
+        f"{name!r}"
+    )
+
+
 def make_policy(name: str, env: Any, rng: np.random.Generator | int | None = None) -> Policy:
-    """A baseline policy by name (one of :data:`POLICY_NAMES`)."""
-    if name not in POLICIES:
-        raise InvalidInputError(f"`name` must be one of {POLICY_NAMES}, got {name!r}")
+    """A policy by name: one of :data:`POLICY_NAMES`, or ``"learned:PATH"`` (a weight file).
+
+    Raises:
+        InvalidInputError: an unknown name (the message lists the choices), or a weight file
+            that does not fit the environment (:class:`LearnedPolicy`).
+    """
+    check_policy_name(name)
+    if name.startswith(LEARNED_PREFIX):
+        return LearnedPolicy(env, rng, path=name[len(LEARNED_PREFIX) :])
     return POLICIES[name](env, rng)
 
 

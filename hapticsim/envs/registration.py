@@ -2,7 +2,12 @@
 
 Gymnasium 1.x reads no entry points from installed packages, so ``import hapticsim`` registers
 them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
-``gymnasium.make("hapticsim:hapticsim/HapticExplore-v0")`` without a prior import.
+``gymnasium.make("hapticsim:hapticsim/HapticExplore-v0")`` without a prior import. Versions:
+
+- ``hapticsim/HapticExplore-v0``: the exploration task (Dict observation of contacts and fit);
+- ``hapticsim/HapticExplore-v1``: the same task with a compact observation, an action without
+  finger and a log-epsilon reward, for learners
+  (:class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`).
 """
 
 from __future__ import annotations
@@ -11,17 +16,22 @@ from __future__ import annotations
 HAPTIC_EXPLORE_ID: str = "hapticsim/HapticExplore-v0"
 #: Its string entry point (imported only when the environment is made).
 HAPTIC_EXPLORE_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v0:HapticExploreEnv"
+#: Id of version 1 (compact observation for learners).
+HAPTIC_EXPLORE_V1_ID: str = "hapticsim/HapticExplore-v1"
+#: Its string entry point.
+HAPTIC_EXPLORE_V1_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
 
 
 def register_envs() -> None:
-    """Register ``hapticsim/HapticExplore-v0``; calling it again does nothing."""
+    """Register ``hapticsim/HapticExplore-v0`` and ``-v1``; calling it again does nothing."""
     from gymnasium.envs.registration import register, registry
 
-    if HAPTIC_EXPLORE_ID in registry:
-        return
-    register(
-        id=HAPTIC_EXPLORE_ID,
-        entry_point=HAPTIC_EXPLORE_ENTRY_POINT,
-        max_episode_steps=None,
-        disable_env_checker=False,
-    )
+    for env_id, entry_point in (
+        (HAPTIC_EXPLORE_ID, HAPTIC_EXPLORE_ENTRY_POINT),
+        (HAPTIC_EXPLORE_V1_ID, HAPTIC_EXPLORE_V1_ENTRY_POINT),
+    ):
+        if env_id in registry:
+            continue
+        register(
+            id=env_id, entry_point=entry_point, max_episode_steps=None, disable_env_checker=False
+        )

@@ -1,0 +1,352 @@
+"""Trained actors as small ``.npz`` files with a numpy forward pass (no torch needed to run them).
+
+A weight file holds the layers of a multilayer perceptron (the deterministic actor of a
+stable-baselines3 / sb3-contrib model: SAC, TQC, CrossQ or PPO) and, in its ``meta`` entry (a
+JSON string), what it was trained for: the environment version (``env_id``), the observation and
+action sizes, the environment settings, and the training record (algorithm, steps, seed, wall
+time, command). :func:`load_actor` checks all of it; :meth:`Actor.check_settings` checks an
+environment's settings against the trained ones. :func:`actor_from_sb3` makes an actor from a
+trained model (needs torch; only the training script calls it).
+
+Layers (``meta["layers"]``, applied in order to an observation vector):
+
+- ``"linear"``: ``x @ W.T + b`` (two arrays, W of shape (out, in));
+- ``"relu"``, ``"tanh"``: element-wise;
+- ``"batch_renorm"``: ``(x - mean) / sqrt(var + eps) * scale + bias`` (CrossQ's BatchRenorm in
+  evaluation mode; four arrays, eps in ``meta["batch_renorm_eps"]``);
+
+then the output squash ``meta["squash"]``: ``"tanh"`` (SAC, TQC, CrossQ) or ``"clip"`` to
+[-1, 1] (PPO's mean action).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+
+Array = NDArray[np.float64]
+
+#: ``meta["format"]`` of a weight file.
+FORMAT: str = "hapticsim-actor"
+#: Version of the file format this code reads and writes.
+FORMAT_VERSION: int = 1
+#: Layer kinds and how many arrays each takes.
+LAYER_ARRAYS: dict[str, int] = {"linear": 2, "relu": 0, "tanh": 0, "batch_renorm": 4}
+#: Output squashes.
+SQUASHES: tuple[str, ...] = ("tanh", "clip")
+#: Environment settings that change what an observation or action means: a policy runs only on
+#: environments whose settings equal the trained ones (backend, objects, noise and budget may
+#: differ).
+MEANING_SETTINGS: tuple[str, ...] = ("obs_scale", "max_stroke", "stroke_spacing")
+
+
+@dataclass(frozen=True, eq=False)
+class Actor:
+    """A deterministic actor: an MLP from observation to action, and what it was trained for.
+
+    Attributes:
+        layers: layer kinds (:data:`LAYER_ARRAYS`), in order.
+        params: the arrays of the layers, in order (float64).
+        squash: ``"tanh"`` or ``"clip"``.
+        meta: the file's record: ``env_id``, ``obs_dim``, ``action_dim``, ``settings``
+            (environment settings), ``training`` (algorithm, steps, seed, wall time, command).
+    """
+
+    layers: tuple[str, ...]
+    params: tuple[Array, ...]
+    squash: str
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        unknown = [k for k in self.layers if k not in LAYER_ARRAYS]
+        if unknown:
+            raise InvalidInputError(
+                f"`layers` must be kinds from {tuple(LAYER_ARRAYS)}, got {unknown}"
+            )
+        if self.squash not in SQUASHES:
+            raise InvalidInputError(f"`squash` must be one of {SQUASHES}, got {self.squash!r}")
+        expected = sum(LAYER_ARRAYS[k] for k in self.layers)
+        if len(self.params) != expected:
+            raise InvalidInputError(
+                f"`params` must hold {expected} arrays for layers {list(self.layers)}, got "
+                f"{len(self.params)}"
+            )
+        params = tuple(np.asarray(p, dtype=np.float64) for p in self.params)
+        for i, p in enumerate(params):
+            if not np.all(np.isfinite(p)):
+                raise InvalidInputError(f"`params[{i}]` holds NaN or infinite values")
+        object.__setattr__(self, "params", params)
+        width = None
+        k = 0
+        for kind in self.layers:
+            arrays = params[k : k + LAYER_ARRAYS[kind]]
+            k += LAYER_ARRAYS[kind]
+            if kind == "linear":
+                w, b = arrays
+                if w.ndim != 2 or b.shape != (w.shape[0],):
+                    raise InvalidInputError(
+                        f"a linear layer needs W (out, in) and b (out,), got {w.shape}, {b.shape}"
+                    )
+                if width is not None and w.shape[1] != width:
+                    raise InvalidInputError(
+                        f"a linear layer takes {w.shape[1]} inputs after a layer of {width}"
+                    )
+                width = w.shape[0]
+            elif kind == "batch_renorm":
+                if width is not None and any(a.shape != (width,) for a in arrays):
+                    raise InvalidInputError(f"a batch_renorm layer needs four ({width},) arrays")
+                if np.any(arrays[1] < 0):
+                    raise InvalidInputError("a batch_renorm layer has a negative variance")
+        if not any(kind == "linear" for kind in self.layers):
+            raise InvalidInputError("an actor needs at least one linear layer")
+
+    @property
+    def obs_dim(self) -> int:
+        """Length of the observation vector."""
+        return int(self.params[self._first_linear()].shape[1])
+
+    @property
+    def action_dim(self) -> int:
+        """Length of the action vector."""
+        last = max(i for i, _ in self._linear_params())
+        return int(self.params[last].shape[0])
+
+    def _linear_params(self) -> list[tuple[int, str]]:
+        out, k = [], 0
+        for kind in self.layers:
+            if kind == "linear":
+                out.append((k, kind))
+            k += LAYER_ARRAYS[kind]
+        return out
+
+    def _first_linear(self) -> int:
+        return self._linear_params()[0][0]
+
+    def __call__(self, obs: Any) -> NDArray[np.float32]:
+        """The action of one observation, or of a batch.
+
+        Args:
+            obs: (obs_dim,) or (n, obs_dim) float.
+
+        Returns:
+            (action_dim,) or (n, action_dim) float32 in [-1, 1].
+        """
+        x = np.asarray(obs, dtype=np.float64)
+        if x.shape[-1:] != (self.obs_dim,) or x.ndim > 2:
+            raise InvalidInputError(
+                f"`obs` must be ({self.obs_dim},) or (n, {self.obs_dim}) float, got {x.shape}"
+            )
+        eps = float(self.meta.get("batch_renorm_eps", 1e-3))
+        k = 0
+        for kind in self.layers:
+            arrays = self.params[k : k + LAYER_ARRAYS[kind]]
+            k += LAYER_ARRAYS[kind]
+            if kind == "linear":
+                x = x @ arrays[0].T + arrays[1]
+            elif kind == "relu":
+                x = np.maximum(x, 0.0)
+            elif kind == "tanh":
+                x = np.tanh(x)
+            else:
+                mean, var, scale, bias = arrays
+                x = (x - mean) / np.sqrt(var + eps) * scale + bias
+        x = np.tanh(x) if self.squash == "tanh" else np.clip(x, -1.0, 1.0)
+        return x.astype(np.float32)
+
+    def describe(self) -> str:
+        """What the actor was trained for, in words (for messages)."""
+        settings = self.meta.get("settings", {})
+        shown = ", ".join(f"{k}={settings[k]!r}" for k in sorted(settings) if k in MEANING_SETTINGS)
+        return (
+            f"{self.meta.get('env_id', '?')} with observation size {self.obs_dim} and action "
+            f"size {self.action_dim}" + (f" ({shown})" if shown else "")
+        )
+
+    def check_settings(self, settings: dict[str, Any], where: str = "the environment") -> None:
+        """Refuse environment settings that change what observations and actions mean.
+
+        Args:
+            settings: the environment's settings (:data:`MEANING_SETTINGS` are compared).
+            where: how the environment is named in the message.
+
+        Raises:
+            InvalidInputError: a setting differs (the message says what the actor was trained
+                for).
+        """
+        trained = self.meta.get("settings", {})
+        for name in MEANING_SETTINGS:
+            if name in trained and name in settings:
+                if not np.isclose(float(trained[name]), float(settings[name]), rtol=1e-9):
+                    raise InvalidInputError(
+                        f"the policy was trained for {self.describe()}; {where} has "
+                        f"{name}={settings[name]!r}"
+                    )
+
+    def to_bytes(self) -> bytes:
+        """The ``.npz`` file's content."""
+        meta = dict(self.meta)
+        meta.update(
+            format=FORMAT, format_version=FORMAT_VERSION, layers=list(self.layers),
+            squash=self.squash, obs_dim=self.obs_dim, action_dim=self.action_dim,
+        )  # fmt: skip
+        arrays = {f"param_{i}": p.astype(np.float32) for i, p in enumerate(self.params)}
+        buf = io.BytesIO()
+        np.savez_compressed(buf, meta=np.array(json.dumps(meta, sort_keys=True)), **arrays)
+        return buf.getvalue()
+
+    def save(self, path: str | Path) -> Path:
+        """Write the weight file atomically (``.npz``); returns its path."""
+        from hapticsim._files import atomic_write
+
+        path = Path(path)
+        if path.suffix != ".npz":
+            raise InvalidInputError(f"`path` must end in .npz, got {str(path)!r}")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        data = self.to_bytes()
+        return atomic_write(path, lambda fh: fh.write(data), "wb")
+
+
+def load_actor(
+    path: str | Path,
+    env_id: str | None = None,
+    obs_dim: int | None = None,
+    action_dim: int | None = None,
+) -> Actor:
+    """Read a weight file and check what it was trained for.
+
+    Args:
+        path: the ``.npz`` file.
+        env_id: the environment version the caller runs (None: any).
+        obs_dim: the observation size the caller gives (None: any).
+        action_dim: the action size the caller expects (None: any).
+
+    Raises:
+        InvalidInputError: a missing or unreadable file, another format, or an actor trained for
+            another environment version, observation or action size (the message says what it
+            was trained for).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InvalidInputError(f"policy weights file {str(path)!r} does not exist")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            files = dict(data.items())
+    except (OSError, ValueError) as exc:
+        raise InvalidInputError(
+            f"policy weights file {str(path)!r} is not a readable .npz file: {exc}"
+        ) from None
+    if "meta" not in files:
+        raise InvalidInputError(f"policy weights file {str(path)!r} has no `meta` entry")
+    try:
+        meta = json.loads(str(files["meta"]))
+        if not isinstance(meta, dict):
+            raise ValueError("not a JSON object")
+    except ValueError as exc:
+        raise InvalidInputError(f"policy weights file {str(path)!r}: bad `meta`: {exc}") from None
+    if meta.get("format") != FORMAT:
+        raise InvalidInputError(
+            f"policy weights file {str(path)!r} is not a {FORMAT} file (format "
+            f"{meta.get('format')!r})"
+        )
+    if meta.get("format_version") != FORMAT_VERSION:
+        raise InvalidInputError(
+            f"policy weights file {str(path)!r} has format version "
+            f"{meta.get('format_version')!r}; this hapticsim reads version {FORMAT_VERSION}"
+        )
+    layers = meta.get("layers")
+    if not isinstance(layers, list) or not all(isinstance(k, str) for k in layers):
+        raise InvalidInputError(f"policy weights file {str(path)!r}: `layers` must be a list")
+    count = sum(LAYER_ARRAYS.get(k, 0) for k in layers)
+    missing = [f"param_{i}" for i in range(count) if f"param_{i}" not in files]
+    if missing:
+        raise InvalidInputError(f"policy weights file {str(path)!r} lacks arrays {missing}")
+    try:
+        actor = Actor(
+            tuple(layers),
+            tuple(files[f"param_{i}"] for i in range(count)),
+            str(meta.get("squash")),
+            meta,
+        )
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"policy weights file {str(path)!r}: {exc}") from None
+    wanted = []
+    if env_id is not None and meta.get("env_id") != env_id:
+        wanted.append(f"{env_id}")
+    if obs_dim is not None and actor.obs_dim != obs_dim:
+        wanted.append(f"observation size {obs_dim}")
+    if action_dim is not None and actor.action_dim != action_dim:
+        wanted.append(f"action size {action_dim}")
+    if wanted:
+        raise InvalidInputError(
+            f"policy weights file {str(path)!r} was trained for {actor.describe()}; this "
+            f"hapticsim runs learned policies for {', '.join(wanted)}"
+        )
+    return actor
+
+
+def actor_from_sb3(model: Any, meta: dict[str, Any]) -> Actor:
+    """The deterministic actor of a stable-baselines3 / sb3-contrib model (needs torch).
+
+    Supports SAC and TQC (``policy.actor``: ``latent_pi`` then ``mu``, tanh squash), CrossQ (the
+    same with BatchRenorm layers) and PPO with a Box action (``mlp_extractor.policy_net`` then
+    ``action_net``; its mean action clipped to [-1, 1]). The observation must be a flat vector
+    without normalisation wrappers.
+
+    Args:
+        model: the trained model.
+        meta: the record to store (``env_id``, ``settings``, ``training``).
+
+    Raises:
+        InvalidInputError: a model or layer this exporter does not know.
+    """
+    import torch
+
+    def walk(module: Any) -> tuple[list[str], list[Array]]:
+        kinds: list[str] = []
+        arrays: list[Array] = []
+        for layer in module:
+            name = type(layer).__name__
+            if isinstance(layer, torch.nn.Linear):
+                kinds.append("linear")
+                arrays += [layer.weight.detach().cpu().numpy(), layer.bias.detach().cpu().numpy()]
+            elif isinstance(layer, torch.nn.ReLU):
+                kinds.append("relu")
+            elif isinstance(layer, torch.nn.Tanh):
+                kinds.append("tanh")
+            elif name.startswith("BatchRenorm"):
+                kinds.append("batch_renorm")
+                arrays += [
+                    layer.ra_mean.detach().cpu().numpy(), layer.ra_var.detach().cpu().numpy(),
+                    layer.scale.detach().cpu().numpy(), layer.bias.detach().cpu().numpy(),
+                ]  # fmt: skip
+                meta_out["batch_renorm_eps"] = float(layer.eps)
+            elif isinstance(layer, torch.nn.Flatten | torch.nn.Identity):
+                continue
+            else:
+                raise InvalidInputError(f"the actor has a layer the exporter does not know: {name}")
+        return kinds, arrays
+
+    meta_out: dict[str, Any] = dict(meta)
+    policy = model.policy
+    if hasattr(policy, "actor") and hasattr(policy.actor, "latent_pi"):
+        actor = policy.actor
+        if getattr(actor, "use_sde", False):
+            raise InvalidInputError("actors with gSDE are not supported")
+        kinds, arrays = walk(actor.latent_pi)
+        k2, a2 = walk([actor.mu])
+        squash = "tanh"
+    elif hasattr(policy, "mlp_extractor") and hasattr(policy, "action_net"):
+        kinds, arrays = walk(policy.mlp_extractor.policy_net)
+        k2, a2 = walk([policy.action_net])
+        squash = "clip"
+    else:
+        raise InvalidInputError(f"cannot export the actor of a {type(model).__name__} model")
+    return Actor(tuple(kinds + k2), tuple(arrays + a2), squash, meta_out)
