@@ -5,6 +5,10 @@ uncertainty-driven baselines, on the same objects (seeds), in 2 processes:
 
     python scripts/compare_policies.py                       # analytic backend, 24 + 20 episodes
     python scripts/compare_policies.py --backend mujoco --episodes 20 --out docs/policies/mujoco
+
+Policies are names of ``hapticsim.envs.policies`` (``learned``, or ``learned:PATH`` for a weight
+file); ``--fresh-envs`` runs every episode in a new environment, so the numbers do not depend on
+the worker count.
 """
 
 from __future__ import annotations
@@ -23,7 +27,10 @@ from hapticsim.envs.policies import POLICY_NAMES
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--backend", choices=BACKENDS, default="analytic")
-    parser.add_argument("--policies", nargs="+", choices=POLICY_NAMES, default=list(POLICY_NAMES))
+    parser.add_argument(
+        "--policies", nargs="+", default=["random", "paper", "uncertainty"],
+        help=f"names from {POLICY_NAMES} or learned:PATH (default: the three baselines)",
+    )  # fmt: skip
     parser.add_argument(
         "--objects", nargs="+", choices=OBJECT_KINDS, default=["random_tapered", "paper"]
     )
@@ -35,13 +42,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--scheduler", default=None, help="a Dask cluster instead: tcp://host:port or local:N"
     )
+    parser.add_argument("--fresh-envs", action="store_true", help="a new environment per episode")
     parser.add_argument("--out", type=Path, default=Path("docs/policies"))
     args = parser.parse_args(argv)
 
     start = time.perf_counter()
     cmp = compare_policies(
         args.policies, args.objects, args.episodes, seed=args.seed, workers=args.workers,
-        scheduler=args.scheduler,
+        scheduler=args.scheduler, fresh_envs=args.fresh_envs,
         backend=args.backend, touch_budget=args.budget, noise=args.noise,
     )  # fmt: skip
     command = "python scripts/compare_policies.py " + " ".join(

@@ -374,22 +374,23 @@ def write_comparison(
     ]
     for o in cmp.object_sets:
         md += ["", f"## Objects: {o}", "", _markdown_table(cmp, o), ""]
-        if "uncertainty" in cmp.policies and "random" in cmp.policies:
+        for policy, baseline in _paired(cmp.policies):
             md += [
-                "Uncertainty-driven vs random, paired over the same objects (negative difference:"
-                " uncertainty better; Wilcoxon signed-rank test):",
+                f"{policy} vs {baseline}, paired over the same objects (negative difference: "
+                f"{policy} better; Wilcoxon signed-rank test):",
                 "",
-                "| N | mean difference | uncertainty better in | p-value |",
+                f"| N | mean difference | {policy} better in | p-value |",
                 "|---|---|---|---|",
             ]
-            for n in (5, 10, cmp.budget):
+            for n in sorted({5, 10, cmp.budget}):
                 if n > cmp.budget:
                     continue
-                t = cmp.paired_test("uncertainty", "random", o, n)
+                t = cmp.paired_test(policy, baseline, o, n)
                 md.append(
                     f"| {n} | {t['mean_difference']:+.3f} | {t['wins']}/{t['n']} | "
                     f"{t['p_value']:.3g} |"
                 )
+            md.append("")
     paths["md"] = out / "README.md"
     write_text_atomic(paths["md"], "\n".join(md) + "\n")
     paths["json"] = out / "raw.json"
@@ -400,6 +401,17 @@ def write_comparison(
     }  # fmt: skip
     write_text_atomic(paths["json"], json.dumps(raw, default=_json_default) + "\n")
     return paths
+
+
+def _paired(policies: Sequence[str]) -> list[tuple[str, str]]:
+    """The pairs of the paired tests: every policy against random, learned ones against
+    uncertainty too."""
+    pairs = []
+    if "random" in policies:
+        pairs += [(p, "random") for p in policies if p != "random"]
+    if "uncertainty" in policies:
+        pairs += [(p, "uncertainty") for p in policies if p.startswith("learned")]
+    return pairs
 
 
 def _json_default(value: Any) -> Any:

@@ -34,8 +34,9 @@ Array = NDArray[np.float64]
 ENV_ID: str = "hapticsim/HapticExplore-v1"
 #: Fixed approach directions of the coverage features (Fibonacci lattice, object-centred frame).
 N_DIRECTIONS: int = 32
-#: Length of the compact observation: 13 fit + fit_valid + eof + touches + contacts + 2 x 32.
-OBS_DIM: int = N_PARAMS + 4 + 2 * N_DIRECTIONS
+#: Length of the compact observation: 13 fit + fit_valid + eof + touches + contacts + 32 gaps
+#: + 32 failed flags + the widest gap's direction and value (4).
+OBS_DIM: int = N_PARAMS + 4 + 2 * N_DIRECTIONS + 4
 #: Length of the v1 action: approach vector (3), stroke direction, stroke length.
 ACTION_DIM_V1: int = 5
 #: Reward definitions of v1.
@@ -59,6 +60,10 @@ OBS_NAMES: tuple[str, ...] = (
     "contacts",
     *(f"gap_{k}" for k in range(N_DIRECTIONS)),
     *(f"failed_{k}" for k in range(N_DIRECTIONS)),
+    "widest_x",
+    "widest_y",
+    "widest_z",
+    "widest_gap",
 )
 
 
@@ -101,7 +106,7 @@ def observed_contacts(obs: dict[str, np.ndarray], scale: float) -> Array:
 class CompactObserver:
     """The compact observation of v1, made from v0 observations and the agent's approaches.
 
-    Entries (:data:`OBS_NAMES`, float32, :data:`OBS_DIM` = 81):
+    Entries (:data:`OBS_NAMES`, float32, :data:`OBS_DIM` = 85):
 
     | Index  | Name        | Content                                                  | Unit  |
     |--------|-------------|----------------------------------------------------------|-------|
@@ -113,6 +118,9 @@ class CompactObserver:
     | 17-48  | gap_k       | coverage gap in fixed direction k (below)                | 1     |
     | 49-80  | failed_k    | 1 if a touch within 0.35 rad of direction k brought no   | -     |
     |        |             | contact this episode                                     |       |
+    | 81-83  | widest_xyz  | the direction u_k of the widest gap among those not      | 1     |
+    |        |             | failed (the first such k on ties; all if every one did)  |       |
+    | 84     | widest_gap  | that gap                                                 | 1     |
 
     The gap of direction ``u_k`` (32 Fibonacci directions, object-centred frame): the approach
     ray from far along ``u_k`` towards the rough position is cast on the current estimate (a
@@ -120,7 +128,9 @@ class CompactObserver:
     ``min(1, d / r)``, d the distance [m] from that predicted contact to the nearest contact so
     far and ``r`` the estimate's mean semi-axis; 1 without contacts, 0 where the ray misses the
     estimate. This is the per-direction form of the ``uncertainty`` baseline's criterion and of
-    v0's :func:`~hapticsim.envs.haptic_explore_v0.coverage_uncertainty`. Nothing here uses the
+    v0's :func:`~hapticsim.envs.haptic_explore_v0.coverage_uncertainty`; the widest gap's
+    direction summarises it (touching there is that baseline's choice restricted to the 32
+    directions, with a fixed stroke: the learner may follow it, or not). Nothing here uses the
     ground truth.
 
     Args:
@@ -173,7 +183,11 @@ class CompactObserver:
                 [float(obs["touches"][0]) / TOUCH_SCALE, len(contacts) / CONTACT_SCALE],
             ]
         )
-        out = np.concatenate([np.clip(head, -OBS_BOUND, OBS_BOUND), gaps, self._failed])
+        open_gaps = np.where(self._failed, -1.0, gaps) if not self._failed.all() else gaps
+        k = int(np.argmax(open_gaps))
+        out = np.concatenate(
+            [np.clip(head, -OBS_BOUND, OBS_BOUND), gaps, self._failed, DIRECTIONS[k], [gaps[k]]]
+        )
         return out.astype(np.float32)
 
 
@@ -292,9 +306,10 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     ## Observation space
 
-    ``Box(-10, 10, (81,), float32)``: :class:`CompactObserver` (the v0 fit, its validity and
-    error of fit, touch and contact counts, the coverage gap in 32 fixed approach directions
-    and which of them brought no contact). No ground truth.
+    ``Box(-10, 10, (85,), float32)``: :class:`CompactObserver` (the v0 fit, its validity and
+    error of fit, touch and contact counts, the coverage gap in 32 fixed approach directions,
+    which of them brought no contact, and the direction and value of the widest open gap). No
+    ground truth.
 
     ## Rewards
 
@@ -314,7 +329,7 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     ## Version history
 
-    - v1: compact observation (81 numbers, :class:`CompactObserver`), action without finger
+    - v1: compact observation (85 numbers, :class:`CompactObserver`), action without finger
       (approach vector, stroke angle and length; fingers in turn), reward ``log_epsilon`` by
       default, termination at the touch budget.
     - v0: initial version (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`).

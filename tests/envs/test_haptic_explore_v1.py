@@ -29,6 +29,8 @@ from hapticsim.envs.touch import decode_action
 from hapticsim.errors import InvalidInputError
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
+GAPS = slice(17, 17 + N_DIRECTIONS)
+FAILED = slice(17 + N_DIRECTIONS, 17 + 2 * N_DIRECTIONS)
 
 
 def make(**kwargs: object) -> HapticExploreV1Env:
@@ -56,7 +58,7 @@ def test_check_env_passes() -> None:
 
 
 def test_observation_names_match_the_space() -> None:
-    assert len(OBS_NAMES) == OBS_DIM == 13 + 4 + 2 * N_DIRECTIONS
+    assert len(OBS_NAMES) == OBS_DIM == 13 + 4 + 2 * N_DIRECTIONS + 4
     assert DIRECTIONS.shape == (N_DIRECTIONS, 3)
     np.testing.assert_allclose(np.linalg.norm(DIRECTIONS, axis=1), 1.0)
 
@@ -151,22 +153,34 @@ def _obs(points: np.ndarray, touches: int) -> dict[str, np.ndarray]:
 def test_observer_gaps_and_failed_directions() -> None:
     observer = CompactObserver(obs_scale=0.1)
     first = observer.reset(_obs(np.zeros((0, 3)), 0))
-    gaps, failed = first[17 : 17 + N_DIRECTIONS], first[17 + N_DIRECTIONS :]
+    gaps, failed = first[GAPS], first[FAILED]
     np.testing.assert_array_equal(gaps, 1.0)  # nothing touched yet
     np.testing.assert_array_equal(failed, 0.0)
     # A touch from +z that brought nothing: the directions within the cone are marked.
     after_miss = observer.update(_obs(np.zeros((0, 3)), 1), np.array([0.0, 0.0, 1.0]))
-    marked = after_miss[17 + N_DIRECTIONS :].astype(bool)
+    marked = after_miss[FAILED].astype(bool)
     np.testing.assert_array_equal(marked, DIRECTIONS[:, 2] > np.cos(FAILED_CONE))
     assert marked.any()
     # A contact on top of the stand-in sphere: the top direction is covered, the bottom is not.
     top = np.array([[0.0, 0.0, 0.4]])  # 0.04 m / obs_scale 0.1
     after_hit = observer.update(_obs(top, 2), np.array([1.0, 0.0, 0.0]))
-    gaps = after_hit[17 : 17 + N_DIRECTIONS]
+    gaps = after_hit[GAPS]
     # sphere of radius 0.04 m (the contact's distance): gap = 0.04 |u - e_z| / 0.04, capped at 1
     expect = np.minimum(1.0, np.linalg.norm(DIRECTIONS - [0.0, 0.0, 1.0], axis=1))
     np.testing.assert_allclose(gaps, expect, atol=1e-3)
-    np.testing.assert_array_equal(after_hit[17 + N_DIRECTIONS :].astype(bool), marked)
+    np.testing.assert_array_equal(after_hit[FAILED].astype(bool), marked)
+    # the widest open gap: the first unmarked direction of gap 1 (the bottom half has gap 1)
+    k = int(np.argmax(np.where(marked, -1.0, gaps)))
+    assert not marked[k] and gaps[k] == 1.0
+    np.testing.assert_allclose(after_hit[81:84], DIRECTIONS[k], atol=1e-6)
+    assert after_hit[84] == 1.0
+    # with every direction marked, the widest gap over all of them
+    everything = CompactObserver(0.1)
+    everything.reset(_obs(np.zeros((0, 3)), 0))
+    for d in DIRECTIONS:
+        last = everything.update(_obs(np.zeros((0, 3)), 1), d)
+    assert last[FAILED].all()
+    np.testing.assert_allclose(last[81:84], DIRECTIONS[0], atol=1e-6)
     assert after_hit[15] == pytest.approx(0.2)  # touches / 10
     assert after_hit[16] == pytest.approx(0.01)  # contacts / 100
 
