@@ -51,6 +51,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--noise", type=float, default=0.02, help="sensor noise sigma_N")
     p.add_argument("--reward", default="log_epsilon", choices=("log_epsilon", "epsilon"))
     p.add_argument(
+        "--coverage-weight", type=float, default=2.0,
+        help="weight of the reward's coverage term (mean gap drop; 0: epsilon only)",
+    )  # fmt: skip
+    p.add_argument(
         "--chamfer-samples", type=int, default=10,
         help="surface points of the per-step Chamfer distance (unused by the reward; 10 saves "
         "a quarter of a step)",
@@ -58,13 +62,16 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--val-episodes", type=int, default=32)
     p.add_argument("--val-every", type=int, default=10_000, help="steps between validations")
     p.add_argument("--checkpoint-every", type=int, default=20_000)
-    p.add_argument("--net", type=int, nargs="+", default=[256, 256], help="hidden layer widths")
+    p.add_argument("--net", type=int, nargs="+", default=[128, 128], help="hidden layer widths")
     p.add_argument("--lr", type=float, default=None, help="learning rate (default per algo)")
     p.add_argument("--batch-size", type=int, default=256)
     p.add_argument("--buffer-size", type=int, default=400_000)
-    p.add_argument("--learning-starts", type=int, default=2_000)
+    p.add_argument("--learning-starts", type=int, default=1_000)
     p.add_argument("--gamma", type=float, default=0.98)
-    p.add_argument("--gradient-steps", type=int, default=1, help="per vector step (off-policy)")
+    p.add_argument(
+        "--gradient-steps", type=int, default=2,
+        help="gradient steps per vector step (off-policy; 2 with 2 envs: one per transition)",
+    )  # fmt: skip
     p.add_argument("--out", type=Path, required=True)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     return p.parse_args(argv)
@@ -90,6 +97,7 @@ def env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     return {
         "backend": "analytic", "objects": args.objects, "touch_budget": args.budget,
         "noise": args.noise, "reward": args.reward, "chamfer_samples": args.chamfer_samples,
+        "coverage_weight": args.coverage_weight,
     }  # fmt: skip
 
 
@@ -262,7 +270,10 @@ def main(argv: list[str] | None = None) -> int:
         for k in ("backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",
                   "position_noise", "max_contacts", "support")
     }  # fmt: skip
-    settings.update(objects=args.objects, reward=args.reward, n_fingers=val_env.n_fingers)
+    settings.update(
+        objects=args.objects, reward=args.reward, coverage_weight=args.coverage_weight,
+        n_fingers=val_env.n_fingers,
+    )  # fmt: skip
     start_wall = time.perf_counter()
     base_wall = float(state["wall_seconds"])
 

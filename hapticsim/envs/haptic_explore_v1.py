@@ -49,6 +49,8 @@ CONTACT_SCALE: float = 100.0
 INITIAL_RADIUS: float = 0.04
 #: Half-angle of the cone around an approach that brought no contact [rad].
 FAILED_CONE: float = 0.35
+#: Where the coverage gaps sit in the observation.
+GAP_SLICE: slice = slice(N_PARAMS + 4, N_PARAMS + 4 + N_DIRECTIONS)
 #: The fixed directions, (N_DIRECTIONS, 3) unit vectors.
 DIRECTIONS: Array = fibonacci_sphere(N_DIRECTIONS)
 #: Names of the observation's entries, in order (for docs, tests and weight files).
@@ -247,11 +249,16 @@ class HapticExploreV1Config:
             floored at `epsilon_floor`, so the return is ``-log eps_T``: every halving of the
             final error counts the same) or ``"epsilon"`` (v0's ``eps_{t-1} - eps_t``).
         epsilon_floor: floor of epsilon in the log reward (> 0).
+        coverage_weight: weight c >= 0 of a coverage term added to the reward:
+            ``c * (G_{t-1} - G_t)``, G the mean coverage gap over the 32 directions of the
+            observation (1 before any contact; no ground truth), so touching where the estimate
+            is least supported pays at once instead of through the noisy change of epsilon.
     """
 
     base: HapticExploreConfig
     reward: str = "log_epsilon"
     epsilon_floor: float = 1e-3
+    coverage_weight: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.base, HapticExploreConfig):
@@ -263,6 +270,9 @@ class HapticExploreV1Config:
         floor = self.epsilon_floor
         if not isinstance(floor, (int, float)) or not np.isfinite(floor) or not 0 < floor < 1:
             raise InvalidInputError(f"`epsilon_floor` must be in (0, 1), got {floor!r}")
+        c = self.coverage_weight
+        if not isinstance(c, (int, float)) or not np.isfinite(c) or not 0 <= c <= 100:
+            raise InvalidInputError(f"`coverage_weight` must be in [0, 100], got {c!r}")
         if self.base.reward != "epsilon" or not self.base.compute_metrics:
             from dataclasses import replace
 
@@ -316,6 +326,8 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
     ``"log_epsilon"`` (default, privileged): ``log(max(eps_{t-1}, f)) - log(max(eps_t, f))``,
     eps the volume error of the estimate (1 before the first fit), f = ``epsilon_floor``
     (1e-3); an episode's return is ``-log(max(eps_T, f))``. ``"epsilon"``: v0's drop of epsilon.
+    With ``coverage_weight`` c > 0, ``c * (G_{t-1} - G_t)`` is added, G the mean of the
+    observation's 32 coverage gaps (a shaping term without ground truth).
 
     ## Episode end
 
@@ -325,13 +337,14 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
     ## Arguments
 
     As v0 (``backend``, ``objects``, ``touch_budget``, ``noise``, ``fit``, ...; or
-    ``config=HapticExploreV1Config(...)``), plus ``reward`` and ``epsilon_floor`` of v1.
+    ``config=HapticExploreV1Config(...)``), plus ``reward``, ``epsilon_floor`` and
+    ``coverage_weight`` of v1.
 
     ## Version history
 
     - v1: compact observation (85 numbers, :class:`CompactObserver`), action without finger
       (approach vector, stroke angle and length; fingers in turn), reward ``log_epsilon`` by
-      default, termination at the touch budget.
+      default with an optional coverage term, termination at the touch budget.
     - v0: initial version (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`).
     """
 
@@ -357,8 +370,8 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (OBS_DIM,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM_V1,), np.float32)
         self._touches = 0
-        self._log_eps = 0.0
         self._eps = 1.0
+        self._gap = 1.0
 
     @property
     def truth(self) -> Any:
@@ -388,7 +401,9 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         obs, info = self.base.reset(seed=seed, options=options)
         self._touches = 0
         self._eps = 1.0
-        return self.observer.reset(obs), info
+        features = self.observer.reset(obs)
+        self._gap = float(np.mean(features[GAP_SLICE]))
+        return features, info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One touch (v0's step on the mapped action), the compact observation and reward."""
@@ -406,9 +421,15 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         else:
             reward = self._eps - eps
         self._eps = eps
+        features = self.observer.update(obs, approach)
+        gap = float(np.mean(features[GAP_SLICE]))
+        if self.config.coverage_weight > 0:
+            reward += self.config.coverage_weight * (self._gap - gap)
+        self._gap = gap
         info["approach"] = approach
+        info["coverage_gap"] = gap
         done = bool(terminated or truncated)
-        return self.observer.update(obs, approach), reward, done, False, info
+        return features, reward, done, False, info
 
     def render(self) -> NDArray[np.uint8] | None:
         """An RGB picture (``render_mode="rgb_array"``), as v0."""

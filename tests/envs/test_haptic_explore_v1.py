@@ -87,6 +87,21 @@ def test_seeded_episodes_repeat_and_the_log_reward_sums_to_minus_log_epsilon() -
     env.close()
 
 
+def test_the_coverage_term_adds_the_drop_of_the_mean_gap() -> None:
+    env = make(touch_budget=3, coverage_weight=2.0)
+    obs, _ = env.reset(seed=2)
+    assert np.mean(obs[GAPS]) == 1.0
+    total = 0.0
+    for _ in range(3):
+        obs, reward, _, _, info = env.step(np.array([1, 0.2, 0.3, 0.5, 1], np.float32))
+        total += reward
+    assert info["coverage_gap"] == pytest.approx(np.mean(obs[GAPS]), abs=1e-6)
+    expect = -np.log(max(info["epsilon"], 1e-3)) + 2.0 * (1.0 - info["coverage_gap"])
+    assert total == pytest.approx(expect, abs=1e-6)
+    with pytest.raises(InvalidInputError, match="coverage_weight"):
+        make(coverage_weight=-1.0)
+
+
 def test_the_epsilon_reward_is_v0s() -> None:
     env = make(touch_budget=3, reward="epsilon")
     env.reset(seed=2)
