@@ -63,6 +63,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--val-every", type=int, default=10_000, help="steps between validations")
     p.add_argument("--checkpoint-every", type=int, default=20_000)
     p.add_argument("--net", type=int, nargs="+", default=[128, 128], help="hidden layer widths")
+    p.add_argument(
+        "--critic-net", type=int, nargs="+", default=None,
+        help="critic/value widths (default: --net; CrossQ's paper uses 1024 1024 or wider)",
+    )  # fmt: skip
     p.add_argument("--lr", type=float, default=None, help="learning rate (default per algo)")
     p.add_argument("--batch-size", type=int, default=256)
     p.add_argument("--buffer-size", type=int, default=400_000)
@@ -106,13 +110,14 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
 
     common = {"seed": args.seed, "device": "cpu", "verbose": 0, "gamma": args.gamma}
     arch = list(args.net)
+    critic = list(args.critic_net or args.net)
     if args.algo == "ppo":
         from stable_baselines3 import PPO
 
         return PPO(
             "MlpPolicy", env, learning_rate=args.lr or 3e-4, n_steps=1024, batch_size=128,
             n_epochs=10, gae_lambda=0.95, ent_coef=0.0,
-            policy_kwargs={"net_arch": {"pi": arch, "vf": arch}, "activation_fn": torch.nn.Tanh},
+            policy_kwargs={"net_arch": {"pi": arch, "vf": critic}, "activation_fn": torch.nn.Tanh},
             **common,
         )  # fmt: skip
     off = {
@@ -125,7 +130,7 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
 
         return SAC(
             "MlpPolicy", env, learning_rate=args.lr or 3e-4, tau=0.005,
-            policy_kwargs={"net_arch": arch}, **off, **common,
+            policy_kwargs={"net_arch": {"pi": arch, "qf": critic}}, **off, **common,
         )  # fmt: skip
     if args.algo == "tqc":
         from sb3_contrib import TQC
@@ -133,13 +138,14 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
         return TQC(
             "MlpPolicy", env, learning_rate=args.lr or 3e-4, tau=0.005,
             top_quantiles_to_drop_per_net=2,
-            policy_kwargs={"net_arch": arch, "n_critics": 2, "n_quantiles": 25}, **off, **common,
+            policy_kwargs={"net_arch": {"pi": arch, "qf": critic}, "n_critics": 2,
+                           "n_quantiles": 25}, **off, **common,
         )  # fmt: skip
     from sb3_contrib import CrossQ
 
     return CrossQ(
         "MlpPolicy", env, learning_rate=args.lr or 1e-3,
-        policy_kwargs={"net_arch": {"pi": arch, "qf": [1024, 1024]}}, **off, **common,
+        policy_kwargs={"net_arch": {"pi": arch, "qf": critic}}, **off, **common,
     )  # fmt: skip
 
 
@@ -358,8 +364,7 @@ def main(argv: list[str] | None = None) -> int:
                 if done:
                     recent_eps.append(float(info["epsilon"]))
             if self.bar is not None:
-                self.bar.n = self.num_timesteps
-                self.bar.refresh() if self.num_timesteps % 500 < args.n_envs else None
+                self.bar.update(self.num_timesteps - self.bar.n)
             if self.num_timesteps >= self.next_val:
                 evaluate(self.num_timesteps)
                 self.next_val += args.val_every
