@@ -76,6 +76,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--gradient-steps", type=int, default=2,
         help="gradient steps per vector step (off-policy; 2 with 2 envs: one per transition)",
     )  # fmt: skip
+    p.add_argument(
+        "--max-hours", type=float, default=None,
+        help="stop when the run's wall time (summed over resumes) reaches this many hours",
+    )  # fmt: skip
     p.add_argument("--out", type=Path, required=True)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     return p.parse_args(argv)
@@ -248,7 +252,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         state = json.loads(run.state_path.read_text())
         saved = state["args"]
-        keep = {"out", "resume", "timesteps"}
+        keep = {"out", "resume", "timesteps", "max_hours"}
         for k, v in saved.items():  # the run's settings come from the checkpoint
             if k not in keep:
                 setattr(args, k, Path(v) if k == "out" else v)
@@ -371,6 +375,10 @@ def main(argv: list[str] | None = None) -> int:
             if self.num_timesteps >= self.next_ckpt:
                 save_checkpoint(self.num_timesteps)
                 self.next_ckpt += args.checkpoint_every
+            wall = base_wall + time.perf_counter() - start_wall
+            if args.max_hours is not None and wall >= 3600.0 * args.max_hours:
+                run.log(f"stopping at {self.num_timesteps} steps: {wall:.0f} s of wall time")
+                return False
             return True
 
         def _on_training_end(self) -> None:
