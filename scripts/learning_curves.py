@@ -1,9 +1,10 @@
 """Plot and tabulate the learning curves of scripts/train_policy.py runs (docs/policies/learned).
 
 Each run folder holds ``curve.csv`` (steps, wall seconds, validation epsilon mean and median) and
-``checkpoint/state.json`` (the run's settings). Prints a Markdown table (one row per run: algorithm,
-steps, wall time, validation epsilon at the last and best point) and writes a plot of validation
-epsilon against environment steps and against wall time:
+``checkpoint/state.json`` (or a copy, ``state.json``) or ``summary.json`` (the run's settings).
+Prints a Markdown table (one row per run: algorithm, steps, wall time, validation epsilon at the
+last and best point) and writes a plot of validation epsilon against environment steps and
+against wall time:
 
     python scripts/learning_curves.py runs/select-sac runs/select-tqc --labels SAC TQC \\
         --out docs/policies/learned/selection.png
@@ -21,6 +22,18 @@ from pathlib import Path
 def read_curve(run: Path) -> list[dict[str, float]]:
     with (run / "curve.csv").open() as fh:
         return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
+def run_algo(run: Path) -> str:
+    """The run's algorithm, from its state (``checkpoint/state.json``, or ``state.json`` in a
+    copied run without checkpoint) or its summary."""
+    for state_path in (run / "checkpoint" / "state.json", run / "state.json"):
+        if state_path.is_file():
+            return str(json.loads(state_path.read_text())["args"]["algo"])
+    summary_path = run / "summary.json"
+    if summary_path.is_file():
+        return str(json.loads(summary_path.read_text())["algo"])
+    return "?"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -51,8 +64,7 @@ def main(argv: list[str] | None = None) -> int:
             "|---|---|---|---|---|---|"]  # fmt: skip
     for run, label in zip(args.runs, labels, strict=True):
         curve = read_curve(run)
-        state_path = run / "checkpoint" / "state.json"
-        algo = json.loads(state_path.read_text())["args"]["algo"] if state_path.is_file() else "?"
+        algo = run_algo(run)
         steps = [r["steps"] for r in curve]
         mean = [r["val_mean"] for r in curve]
         axes[0].plot(steps, mean, "o-", markersize=3, label=label)
