@@ -15,6 +15,10 @@ PACKAGES: tuple[str, ...] = (
     "numpy", "scipy", "mujoco", "gymnasium", "trimesh", "manifold3d", "numba", "llvmlite",
     "threadpoolctl", "distributed", "dask",
 )  # fmt: skip
+#: What of the checkout can change a number: ``dirty`` means uncommitted changes here. Results
+#: and docs do not count, so that regenerating committed baselines one after another does not
+#: mark the later ones dirty.
+CODE_PATHS: tuple[str, ...] = ("hapticsim", "models", "pyproject.toml")
 #: How a case's seeds derive from the suite's root seed.
 SEED_SCHEME: str = (
     "numpy SeedSequence(root, spawn_key=SHA-256 of the canonical JSON of the case's parameters "
@@ -35,6 +39,9 @@ def package_versions() -> dict[str, str | None]:
 
 def git_state() -> dict[str, Any] | None:
     """``{"commit", "dirty"}`` of the git checkout hapticsim is imported from, or None.
+
+    ``dirty``: uncommitted changes to tracked files of :data:`CODE_PATHS` (the package, the
+    MJCF models, the project file).
 
     None when hapticsim is not run from a checkout of its own repository (an installed wheel),
     or git is missing. A checkout of some other project that happens to contain the
@@ -57,7 +64,9 @@ def git_state() -> dict[str, Any] | None:
     if not top or Path(top).resolve() / "hapticsim" != package:
         return None
     commit = git("rev-parse", "HEAD")
-    status = git("status", "--porcelain", "--untracked-files=no")
+    status = git(
+        "status", "--porcelain", "--untracked-files=no", "--", *(f":/{p}" for p in CODE_PATHS)
+    )
     return {"commit": commit, "dirty": bool(status)}
 
 
