@@ -471,6 +471,20 @@ def _frame(rot: np.ndarray, center: np.ndarray) -> tuple:
 
 
 @njit(**_INLINE)
+def _jacobian_frame(x: np.ndarray) -> tuple:
+    """The pose of parameter vector `x` for a Jacobian: :func:`_frame`, its rotation entries
+    (``f[3:]``) and the left Jacobian of the rotation vector's map, as 9 scalars (row-major)."""
+    rot = np.empty((3, 3))
+    rotvec_matrix(x[7], x[8], x[9], rot)
+    jl = np.empty((3, 3))
+    left_jacobian(x[7], x[8], x[9], jl)
+    f = _frame(rot, x[10:13])
+    jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
+          jl[2, 2])  # fmt: skip
+    return f, f[3:], jm
+
+
+@njit(**_INLINE)
 def _to_body(x: float, y: float, z: float, f: tuple) -> tuple:
     """``(d0, d1, d2, bx, by, bz)``: the offset ``d = x - x0`` [world] and ``R^T d`` [body]."""
     c0, c1, c2, r00, r01, r02, r10, r11, r12, r20, r21, r22 = f
@@ -838,14 +852,7 @@ def jacobian_vector(
     """
     tally[0] += NP
     n = points.shape[1]
-    rot = np.empty((3, 3))
-    rotvec_matrix(x[7], x[8], x[9], rot)
-    jl = np.empty((3, 3))
-    left_jacobian(x[7], x[8], x[9], jl)
-    f = _frame(rot, x[10:13])
-    rm = f[3:]
-    jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
-          jl[2, 2])  # fmt: skip
+    f, rm, jm = _jacobian_frame(x)
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     lam23 = 2.0 * lam / 3.0
     px_w, py_w, pz_w = points[0], points[1], points[2]
@@ -887,14 +894,7 @@ def ml_jacobian_vector(
     wp, wn, c = settings[ML_POINT_WEIGHT], settings[ML_NORMAL_WEIGHT], settings[ML_ROBUST]
     wt, e0, we = settings[ML_TAPER_WEIGHT], settings[ML_EPS_CENTER], settings[ML_EPS_WEIGHT]
     wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
-    rot = np.empty((3, 3))
-    rotvec_matrix(x[7], x[8], x[9], rot)
-    jl = np.empty((3, 3))
-    left_jacobian(x[7], x[8], x[9], jl)
-    f = _frame(rot, x[10:13])
-    rm = f[3:]
-    jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
-          jl[2, 2])  # fmt: skip
+    f, rm, jm = _jacobian_frame(x)
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
     for i in range(n):
         d0, d1, d2, bx, by, bz = _to_body(points[0, i], points[1, i], points[2, i], f)
