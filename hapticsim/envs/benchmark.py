@@ -18,6 +18,7 @@ def benchmark_env(
     seed: int = 0,
     objects: str = "paper",
     progress: bool = True,
+    warmup: int = 1,
     **env_kwargs: Any,
 ) -> dict[str, Any]:
     """Time random-policy episodes of the environment (default settings otherwise).
@@ -28,6 +29,9 @@ def benchmark_env(
         seed: first seed (environment and actions).
         objects: object distribution kind.
         progress: print a line per episode on stderr.
+        warmup: untimed episodes first (seeds from ``seed + episodes`` on): a fresh
+            process loads the compiled code in its first fits (the cold and warm first fit are
+            timed by ``scripts/bench.py --section startup``).
         **env_kwargs: further environment settings.
 
     Returns:
@@ -46,6 +50,12 @@ def benchmark_env(
     register_envs()
     env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, objects=objects, **env_kwargs)
     env.action_space.seed(seed)
+    for k in range(warmup):  # untimed: the first steps of a process load the compiled code
+        env.reset(seed=seed + episodes + k)
+        done = False
+        while not done:
+            _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            done = terminated or truncated
     steps, full = 0, 0
     parts = {"touch": 0.0, "fit": 0.0, "metrics": 0.0}
     reset_wall = reset_cpu = 0.0
@@ -182,6 +192,59 @@ def benchmark_touch(
     }  # fmt: skip
 
 
+def _single_steps(backend: str, seed: int, steps: int, env_kwargs: dict[str, Any]) -> list[float]:
+    """Wall time [s] of each of `steps` random steps of one environment (a reset inside the
+    step that needs it, as a vector environment's autoreset does), after a warm-up."""
+    import gymnasium as gym
+
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
+
+    register_envs()
+    env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
+    env.action_space.seed(seed)
+    env.reset(seed=seed)
+    for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
+        env.step(env.action_space.sample())
+    env.reset(seed=seed)
+    times = []
+    for _ in range(steps):
+        t = time.perf_counter()
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            env.reset()
+        times.append(time.perf_counter() - t)
+    env.close()
+    return times
+
+
+def _free_running(args: tuple[str, int, int, dict[str, Any], Any]) -> tuple[int, float, float]:
+    """One of several independent single environments started together: (steps, start, end)."""
+    backend, seed, steps, env_kwargs, barrier = args
+    _single_steps(backend, seed, WARMUP_STEPS, env_kwargs)  # load the compiled code
+    barrier.wait()
+    start = time.perf_counter()
+    _single_steps(backend, seed, steps, env_kwargs)
+    return steps, start, time.perf_counter()
+
+
+def lockstep_bound(step_seconds: Any, num_envs: int, draws: int = 200, seed: int = 0) -> float:
+    """The speed-up a lockstep vector environment can reach at most with these step times.
+
+    A vector step waits for the slowest of its `num_envs` environments, so with independent
+    step times X its rate is ``num_envs / E[max(X_1..X_n)]`` against ``1 / E[X]`` for one
+    environment (with one core per environment and no communication cost). The expectation is
+    taken over random groupings of the measured times.
+    """
+    import numpy as np
+
+    x = np.asarray(step_seconds, dtype=float)
+    gen = np.random.default_rng(seed)
+    slowest = np.mean(
+        [np.max([gen.permutation(x) for _ in range(num_envs)], axis=0).mean() for _ in range(draws)]
+    )
+    return float(num_envs * x.mean() / slowest)
+
+
 def benchmark_vector_env(
     backend: str = "analytic",
     num_envs: int = 2,
@@ -191,9 +254,14 @@ def benchmark_vector_env(
 ) -> dict[str, Any]:
     """Steps per second of ``gym.make_vec(..., vectorization_mode="async")`` against one process.
 
-    Both are timed here, one after the other, on the same number of environment steps (resets
-    included, as the vector environment resets itself), so their ratio is measured under the same
-    machine load.
+    Three variants, one after the other on the same number of environment steps (resets
+    included, as the vector environment resets itself), so that their ratios are measured under
+    the same machine load: one environment in this process; the vector environment; and
+    `num_envs` independent single environments in as many processes at once (*free running*:
+    what the cores give when nobody waits for anybody). From the single environment's step times
+    also the *lockstep bound* (:func:`lockstep_bound`): the vector environment waits for its
+    slowest environment at every step, and a step's cost varies (a full fit, a refinement, a
+    kept estimate, a reset), so its speed-up is at most that, whatever the communication costs.
 
     Args:
         backend: ``"analytic"`` or ``"mujoco"``.
@@ -203,9 +271,14 @@ def benchmark_vector_env(
         **env_kwargs: further environment settings.
 
     Returns:
-        ``single_steps_per_second``, ``vector_steps_per_second`` and their ``speedup``.
+        ``single_steps_per_second``, ``vector_steps_per_second``, their ``speedup``,
+        ``free_running_speedup``, ``lockstep_bound`` and the single environment's step times
+        (``single_step_ms``: mean, median, p90, max).
     """
+    import multiprocessing
+
     import gymnasium as gym
+    import numpy as np
 
     from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 
@@ -214,19 +287,8 @@ def benchmark_vector_env(
             f"need num_envs >= 1 and steps >= num_envs, got {num_envs}, {steps}"
         )
     register_envs()
-    single = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
-    single.action_space.seed(seed)
-    single.reset(seed=seed)
-    for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
-        single.step(single.action_space.sample())
-    single.reset(seed=seed)
-    start = time.perf_counter()
-    for _ in range(steps):
-        _, _, terminated, truncated, _ = single.step(single.action_space.sample())
-        if terminated or truncated:
-            single.reset()
-    single_rate = steps / (time.perf_counter() - start)
-    single.close()
+    times = _single_steps(backend, seed, steps, env_kwargs)
+    single_rate = steps / float(np.sum(times))
     vec = gym.make_vec(
         HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async", backend=backend,
         **env_kwargs,
@@ -241,6 +303,14 @@ def benchmark_vector_env(
         vec.step(vec.action_space.sample())
     vector_rate = rounds * num_envs / (time.perf_counter() - start)
     vec.close()
+    context = multiprocessing.get_context("spawn")
+    with context.Manager() as manager:
+        barrier = manager.Barrier(num_envs)
+        jobs = [(backend, seed + k, rounds, env_kwargs, barrier) for k in range(num_envs)]
+        with context.Pool(num_envs) as pool:
+            runs = pool.map(_free_running, jobs)
+    free_rate = sum(n / (end - begin) for n, begin, end in runs)
+    ms = np.asarray(times) * 1e3
     return {
         "backend": backend,
         "num_envs": num_envs,
@@ -248,5 +318,12 @@ def benchmark_vector_env(
         "single_steps_per_second": float(single_rate),
         "vector_steps_per_second": float(vector_rate),
         "speedup": float(vector_rate / single_rate),
+        "free_running_steps_per_second": float(free_rate),
+        "free_running_speedup": float(free_rate / single_rate),
+        "lockstep_bound": lockstep_bound(times, num_envs),
+        "single_step_ms": {
+            "mean": float(ms.mean()), "median": float(np.median(ms)),
+            "p90": float(np.percentile(ms, 90)), "max": float(ms.max()),
+        },
         "actions": "random",
-    }
+    }  # fmt: skip

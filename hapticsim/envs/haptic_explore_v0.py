@@ -99,12 +99,15 @@ class HapticExploreConfig:
             selects. The analytic backend has no hand and ignores it.
         compute_metrics: score the estimate against the truth every step (info); forced on for
             ``reward="epsilon"`` and ``target_epsilon``.
-        metric_samples: Monte Carlo samples inside each solid for alpha, beta, epsilon and IoU
-            (:class:`hapticsim.metrics.episode.TruthScorer`; standard error <= 0.5 /
-            sqrt(samples): 0.005 at the default 10,000; the random numbers are drawn once, so
-            successive scores share them and their difference, the reward, is far less noisy).
-        chamfer_samples: surface points per shape of the Chamfer distance (area-weighted, exact
-            point-to-surface distances; same scorer).
+        metric_samples: samples inside each solid for alpha, beta, epsilon and IoU. A
+            superquadric truth is scored by :class:`hapticsim.metrics.episode.TruthScorer`
+            (scrambled Sobol samples drawn once, so successive scores share them and their
+            difference, the reward, is far less noisy; RMS error of epsilon 0.0032 measured at
+            the default 4096); a mesh truth by Monte Carlo (standard error <= 0.5 /
+            sqrt(samples)).
+        chamfer_samples: surface points per shape of the Chamfer distance (superquadric truth:
+            an evenly spread lattice of directions, area-weighted, exact point-to-surface
+            distances, RMS error 1.2 % at the default 128).
         width, height: size of rendered pictures [pixels].
     """
 
@@ -124,8 +127,8 @@ class HapticExploreConfig:
     hand: str | os.PathLike[str] = "hapticsim"
     camera_size: tuple[int, int] = (160, 120)
     compute_metrics: bool = True
-    metric_samples: int = 10_000
-    chamfer_samples: int = 200
+    metric_samples: int = 4096
+    chamfer_samples: int = 128
     width: int = 480
     height: int = 360
 
@@ -494,6 +497,10 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         """Start an episode on a new object (see the class docstring)."""
         super().reset(seed=seed)
+        # The fitter's seeds come from a stream of their own: an episode's object, noise and
+        # rough position (and, for a policy that ignores the estimate, its contacts) do not
+        # depend on how many fits ran, so two fitters can be compared on the same contacts.
+        self._fit_rng = np.random.default_rng(int(self.np_random.integers(2**63)))
         options = options or {}
         shape = options.get("shape")
         if shape is None:
@@ -545,7 +552,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._touches += 1
 
         pts, nrm = self._stacked()
-        self._update = self._fitter.update(pts, nrm, self.np_random, new_contacts=len(result))
+        self._update = self._fitter.update(pts, nrm, self._fit_rng, new_contacts=len(result))
         metric_start = time.perf_counter()
         if self.config.compute_metrics:
             self._metrics = self._score(self._update.estimate)

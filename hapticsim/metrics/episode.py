@@ -2,27 +2,32 @@
 per-step alpha, beta, epsilon, IoU and Chamfer).
 
 Everything random is drawn once, when the scorer is made, so that scoring an estimate costs only
-compiled loops (about 1 ms for 10 000 samples and 200 Chamfer points):
+compiled loops (about 1 ms for the default 4096 samples and 128 Chamfer points):
 
-- **beta**: points uniform inside the truth (:func:`~hapticsim.metrics.volume.sample_interior`),
-  fixed; beta is the fraction outside the estimate;
-- **alpha**: fixed uniform candidates in the cube ``[-1, 1]^3`` of scaled body coordinates and
-  fixed acceptance numbers; for each estimate, of the first ``samples / acceptance`` candidates
-  (its expected acceptance is known in closed form) those inside its unit shape and passing the
-  taper acceptance are its interior sample: the rejection sampling of ``sample_interior`` with
-  the same random numbers every time. Successive estimates are thus scored with common
-  random numbers: their difference (the environment's reward) has far less noise than either
-  score;
+- **samples**: the rejection sampler of :func:`~hapticsim.metrics.volume.sample_interior`
+  (candidates in the cube ``[-1, 1]^3`` of scaled untapered body coordinates, kept when inside
+  the unit shape and passing the taper acceptance) run on fixed *quasi-random* candidates: a
+  scrambled Sobol sequence in four dimensions (three coordinates, one acceptance number). A
+  solid's interior sample is what it keeps of the first ``samples / acceptance`` candidates
+  (its acceptance is known in closed form), about `samples` points;
+- **beta**: the truth's interior sample (its own scrambled sequence), fixed; beta is the
+  fraction outside the estimate;
+- **alpha**: each estimate's interior sample from the shared candidates, tested in the truth.
+  Successive estimates are thus scored with common random numbers: their difference (the
+  environment's reward) has far less noise than either score;
 - **IoU**: from alpha, beta and the exact volumes, as :func:`~hapticsim.metrics.volume_overlap`;
-- **Chamfer** (SPEC §4, the mean of both directions' mean distances): fixed directions uniform on
-  the sphere map one-to-one onto each surface (the surface point on each ray), and each point
-  carries its area element (:func:`~hapticsim.metrics._compiled.surface_sample`), so the
-  weighted means are area means; the distances to the other exact surface come from foot-point
-  iteration (:func:`~hapticsim.metrics._compiled.surface_distances`), not from a mesh.
+- **Chamfer** (SPEC §4, the mean of both directions' mean distances): fixed directions spread
+  evenly on the sphere (a randomly turned Fibonacci lattice) map one-to-one onto each surface
+  (the surface point on each ray), and each point carries its area element
+  (:func:`~hapticsim.metrics._compiled.surface_sample`), so the weighted means are area means;
+  the distances to the other exact surface come from foot-point iteration
+  (:func:`~hapticsim.metrics._compiled.surface_distances`), not from a mesh.
 
-Accuracy: alpha and beta are binomial proportions as in ``volume_overlap`` (standard error at
-most ``0.5 / sqrt(samples)``: 0.005 at 10 000); the Chamfer distance agrees with
-:func:`~hapticsim.metrics.chamfer` to its sampling error (tested).
+Accuracy, measured against 3 x 10^6 Monte Carlo samples and a 20 000-point Chamfer distance on
+30 estimate/truth pairs (random tapered and paper bodies, 4 scorer seeds; ``docs/fast-loop``):
+RMS error of epsilon 0.0032 at 4096 samples (0.0018 at 10 000), largest 0.0098; of the Chamfer
+distance 1.2 % at 128 points. (The former plain Monte Carlo scorer, 10 000 samples and 200
+random directions: 0.0059, largest 0.018, and 4.7 %.)
 """
 
 from __future__ import annotations
@@ -37,10 +42,13 @@ from hapticsim.geometry import Superquadric
 from hapticsim.geometry._eof_compiled import TINY
 from hapticsim.geometry.superquadric import superquadric_arg
 from hapticsim.metrics import _compiled as kernel
-from hapticsim.metrics.volume import _max_taper_jacobian, intersection_and_iou, sample_interior
+from hapticsim.metrics.volume import _max_taper_jacobian, intersection_and_iou
 
 Array = NDArray[np.float64]
 
+#: Interior samples per solid and Chamfer points per surface of a scorer by default.
+DEFAULT_SAMPLES: int = 4096
+DEFAULT_CHAMFER_POINTS: int = 128
 #: Angular step [rad] of the differences behind the area weights of surface points.
 AREA_STEP: float = 1e-4
 #: Foot-point iterations per distance (converged to < 1e-9 m near the surface after 3-4).
@@ -75,12 +83,44 @@ class EstimateScore:
         }  # fmt: skip
 
 
+def _candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
+    """At least `count` candidates of the rejection sampler: the first ``2^m`` points of a
+    scrambled Sobol sequence in [0, 1)^4 (scrambling seeded by `gen`), the first three
+    coordinates mapped to the cube [-1, 1]^3 (``unit``, with ``log(|u| + TINY)``), the fourth
+    the acceptance numbers."""
+    from scipy.stats import qmc
+
+    sobol = qmc.Sobol(4, scramble=True, seed=gen).random_base2(int(np.ceil(np.log2(count))))
+    unit = np.ascontiguousarray(2.0 * sobol[:, :3].T - 1.0)
+    return unit, np.log(np.abs(unit) + TINY), np.ascontiguousarray(sobol[:, 3])
+
+
+def _sphere_lattice(count: int, gen: np.random.Generator) -> Array:
+    """(3, count) unit directions spread evenly over the sphere: a Fibonacci lattice (equal-area
+    bands in z, the golden angle between successive points) turned by a random rotation."""
+    k = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * k / count
+    r = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * k
+    lattice = np.stack([r * np.cos(phi), r * np.sin(phi), z])
+    q, upper = np.linalg.qr(gen.standard_normal((3, 3)))
+    q = q * np.sign(np.diag(upper))  # a uniformly random orthogonal matrix
+    return np.ascontiguousarray(q @ lattice)
+
+
+def _candidate_count(sq: Superquadric, top: float, samples: int, available: int) -> int:
+    """Candidates for about `samples` kept points of `sq` (its acceptance is
+    ``V / (8 a1 a2 a3 top)``), at most `available`."""
+    acceptance = sq.volume / (8.0 * float(np.prod(sq.a)) * top)
+    return min(available, int(np.ceil(samples / acceptance)))
+
+
 class TruthScorer:
     """Scores estimates against one fixed truth, fast (module docstring).
 
     Args:
         truth: the true superquadric.
-        samples: interior points per solid for alpha and beta, >= 100.
+        samples: interior points per solid for alpha and beta (about; module docstring), >= 100.
         chamfer_samples: surface points per shape for the Chamfer distance, >= 10.
         rng: seed or generator of every random number (drawn here, once).
     """
@@ -88,26 +128,29 @@ class TruthScorer:
     def __init__(
         self,
         truth: Superquadric,
-        samples: int = 10_000,
-        chamfer_samples: int = 200,
+        samples: int = DEFAULT_SAMPLES,
+        chamfer_samples: int = DEFAULT_CHAMFER_POINTS,
         rng: np.random.Generator | int | None = 0,
     ) -> None:
         self.truth = superquadric_arg(truth, "truth")
         self.samples = positive_int(samples, "samples", minimum=100)
         self.chamfer_samples = positive_int(chamfer_samples, "chamfer_samples", minimum=10)
         gen = as_generator(rng)
-        m = CANDIDATES_PER_SAMPLE * self.samples
-        self._unit = np.ascontiguousarray(gen.uniform(-1.0, 1.0, (3, m)))
-        self._log_unit = np.log(np.abs(self._unit) + TINY)
-        self._accept = gen.uniform(0.0, 1.0, m)  # scaled by each estimate's largest factor
-        directions = gen.standard_normal((3, self.chamfer_samples))
-        self._directions = np.ascontiguousarray(directions / np.linalg.norm(directions, axis=0))
+        self._unit, self._log_unit, self._accept = _candidates(
+            CANDIDATES_PER_SAMPLE * self.samples, gen
+        )
+        self._directions = _sphere_lattice(self.chamfer_samples, gen)
         self._set_truth(self.truth, gen)
 
     def _set_truth(self, truth: Superquadric, gen: np.random.Generator) -> None:
         self.truth = truth
         self._truth_params = kernel.unpack(truth)
-        self._truth_inside = np.ascontiguousarray(sample_interior(truth, self.samples, gen).T)
+        unit, log_unit, accept = _candidates(CANDIDATES_PER_SAMPLE * self.samples, gen)
+        top = _max_taper_jacobian(truth.taper)
+        self._truth_inside = kernel.interior_points(
+            unit, log_unit, accept, top, _candidate_count(truth, top, self.samples, len(accept)),
+            *self._truth_params,
+        )  # fmt: skip
         self._truth_surface = self._surface(self._truth_params)
 
     def with_truth(
@@ -131,15 +174,13 @@ class TruthScorer:
         shape, rot, center = kernel.unpack(est)
         t_shape, t_rot, t_center = self._truth_params
         top = _max_taper_jacobian(est.taper)
-        # Candidates for about `samples` kept points: the acceptance is V / (8 a1 a2 a3 top).
-        acceptance = est.volume / (8.0 * float(np.prod(est.a)) * top)
-        count = min(self._accept.shape[0], int(np.ceil(self.samples / acceptance)))
+        count = _candidate_count(est, top, self.samples, self._accept.shape[0])
         outside_e, kept = kernel.interior_outside(
             self._unit, self._log_unit, self._accept, top, count, shape, rot, center, t_shape,
             t_rot, t_center,
         )  # fmt: skip
         outside_s = kernel.count_outside(self._truth_inside, shape, rot, center)
-        n_e, n_s = max(kept, 1), self.samples
+        n_e, n_s = max(kept, 1), max(self._truth_inside.shape[1], 1)
         alpha, beta = outside_e / n_e, outside_s / n_s
         _, iou = intersection_and_iou(alpha, beta, est.volume, self.truth.volume, n_s)
         distance = self._chamfer((shape, rot, center))

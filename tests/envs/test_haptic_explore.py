@@ -297,3 +297,22 @@ def test_reset_with_a_given_shape() -> None:
     _, info = env.reset(seed=0, options={"shape": shape})
     assert info["truth"] == shape
     np.testing.assert_allclose(info["origin"], shape.center, atol=0.03)
+
+
+def test_the_fitter_draws_from_a_stream_of_its_own() -> None:
+    # A schedule that never fits draws no fitter seeds, the default draws one per fit; the
+    # object, rough position and (noisy) contacts of an estimate-blind policy must not notice,
+    # so that two fitters can be compared on the same contacts (scripts/paired_fitters.py).
+    from hapticsim.envs.policies import make_policy, run_episode
+
+    runs = []
+    for schedule in (FitSchedule(), FitSchedule(min_contacts=10**6)):
+        env = HapticExploreEnv(backend="analytic", objects="random", touch_budget=8, fit=schedule)
+        record = run_episode(env, make_policy("random", env, rng=3), seed=3, policy_seed=3)
+        runs.append((env.truth, env.origin.copy(), env.contacts.points.copy(), record))
+        env.close()
+    (truth_a, origin_a, points_a, rec_a), (truth_b, origin_b, points_b, rec_b) = runs
+    assert truth_a == truth_b
+    assert np.array_equal(origin_a, origin_b) and np.array_equal(points_a, points_b)
+    assert len(points_a) > 13  # enough contacts for fits to have run
+    assert not np.array_equal(rec_a.epsilon, rec_b.epsilon)  # the fits themselves differ
