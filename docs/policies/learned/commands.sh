@@ -19,6 +19,11 @@ for p in learned random uncertainty paper; do
   hapticsim policies evaluate --policy "$p" --backend mujoco --objects paper \
     --episodes 20 --touches 10 --seed 0 --workers 2 --quiet > "$out/json/mujoco-$p.json"
 done
+# More MuJoCo episodes for learned vs random (seeds 0..59; added after the fast-loop re-measure).
+for p in learned random; do
+  hapticsim policies evaluate --policy "$p" --backend mujoco --objects paper \
+    --episodes 60 --touches 10 --seed 0 --workers 2 --quiet > "$out/json/mujoco60-$p.json"
+done
 # The validation set of the training script (seeds 10,000..10,031): reference lines of the curve.
 for p in learned random uncertainty paper; do
   hapticsim policies evaluate --policy "$p" --backend analytic --objects random \
@@ -27,6 +32,7 @@ done
 
 python scripts/learned_report.py "$out"/json/analytic-*.json --out "$out/analytic"
 python scripts/learned_report.py "$out"/json/mujoco-*.json --out "$out/mujoco"
+python scripts/learned_report.py "$out"/json/mujoco60-*.json --out "$out/mujoco60"
 python scripts/learned_report.py "$out"/json/validation-*.json --out "$out/validation"
 
 # Learning curve of the shipped run and the algorithm selection (reference lines: the baselines'
