@@ -40,6 +40,7 @@ def test_scorer_agrees_with_the_reference_measures(name: str, seed: int) -> None
     assert got.epsilon == pytest.approx(got.alpha + got.beta)
     assert got.chamfer == pytest.approx(chamfer(estimate, truth, 5000, rng=2), rel=0.08)
 
+
 def test_identical_shapes_score_zero_and_scores_repeat() -> None:
     truth, estimate = _pair("tapered_box", 5)
     scorer = TruthScorer(truth, 5_000, 100, rng=3)
