@@ -103,8 +103,9 @@ class HapticExploreConfig:
             superquadric truth is scored by :class:`hapticsim.metrics.episode.TruthScorer`
             (scrambled Sobol samples drawn once, so successive scores share them and their
             difference, the reward, is far less noisy; RMS error of epsilon 0.0032 measured at
-            the default 4096); a mesh truth by Monte Carlo (standard error <= 0.5 /
-            sqrt(samples)).
+            the default 4096); a mesh truth by :class:`hapticsim.metrics.mesh_truth.MeshScorer`
+            (the same quasi-random samples; RMS error of alpha 0.0025, beta 0.0009 measured on
+            the L-block at 4096).
         chamfer_samples: surface points per shape of the Chamfer distance (superquadric truth:
             an evenly spread lattice of directions, area-weighted, exact point-to-surface
             distances, RMS error 1.2 % at the default 128).

@@ -83,7 +83,7 @@ class EstimateScore:
         }  # fmt: skip
 
 
-def _candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
+def quasi_random_candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
     """At least `count` candidates of the rejection sampler: the first ``2^m`` points of a
     scrambled Sobol sequence in [0, 1)^4 (scrambling seeded by `gen`), the first three
     coordinates mapped to the cube [-1, 1]^3 (``unit``, with ``log(|u| + TINY)``), the fourth
@@ -106,6 +106,18 @@ def _sphere_lattice(count: int, gen: np.random.Generator) -> Array:
     q, upper = np.linalg.qr(gen.standard_normal((3, 3)))
     q = q * np.sign(np.diag(upper))  # a uniformly random orthogonal matrix
     return np.ascontiguousarray(q @ lattice)
+
+
+def interior_sample(
+    candidates: tuple[Array, Array, Array], sq: Superquadric, samples: int
+) -> Array:
+    """About `samples` points uniform inside `sq`, (3, k) [m, world]: what the rejection sampler
+    keeps of the first ``samples / acceptance`` of the fixed `candidates`
+    (:func:`quasi_random_candidates`)."""
+    unit, log_unit, accept = candidates
+    top = _max_taper_jacobian(sq.taper)
+    count = _candidate_count(sq, top, samples, accept.shape[0])
+    return kernel.interior_points(unit, log_unit, accept, top, count, *kernel.unpack(sq))
 
 
 def _candidate_count(sq: Superquadric, top: float, samples: int, available: int) -> int:
@@ -136,7 +148,7 @@ class TruthScorer:
         self.samples = positive_int(samples, "samples", minimum=100)
         self.chamfer_samples = positive_int(chamfer_samples, "chamfer_samples", minimum=10)
         gen = as_generator(rng)
-        self._unit, self._log_unit, self._accept = _candidates(
+        self._unit, self._log_unit, self._accept = quasi_random_candidates(
             CANDIDATES_PER_SAMPLE * self.samples, gen
         )
         self._directions = _sphere_lattice(self.chamfer_samples, gen)
@@ -145,12 +157,8 @@ class TruthScorer:
     def _set_truth(self, truth: Superquadric, gen: np.random.Generator) -> None:
         self.truth = truth
         self._truth_params = kernel.unpack(truth)
-        unit, log_unit, accept = _candidates(CANDIDATES_PER_SAMPLE * self.samples, gen)
-        top = _max_taper_jacobian(truth.taper)
-        self._truth_inside = kernel.interior_points(
-            unit, log_unit, accept, top, _candidate_count(truth, top, self.samples, len(accept)),
-            *self._truth_params,
-        )  # fmt: skip
+        candidates = quasi_random_candidates(CANDIDATES_PER_SAMPLE * self.samples, gen)
+        self._truth_inside = interior_sample(candidates, truth, self.samples)
         self._truth_surface = self._surface(self._truth_params)
 
     def with_truth(

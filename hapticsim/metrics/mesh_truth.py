@@ -305,43 +305,57 @@ def score_mesh(
 
 
 class MeshScorer:
-    """Repeated scoring of estimates against one mesh truth (an episode's), with the truth's
-    interior and surface samples drawn once.
+    """Repeated scoring of estimates against one mesh truth (an episode's), every sample drawn
+    once.
+
+    As :class:`~hapticsim.metrics.episode.TruthScorer` does for a superquadric truth, the volume
+    samples are quasi-random (scrambled Sobol): the truth's interior from a Sobol sequence in its
+    bounding box (kept where :meth:`~hapticsim.geometry.mesh_solid.MeshSolid.contains`), each
+    estimate's from the shared Sobol candidates of
+    :func:`~hapticsim.metrics.episode.interior_sample`; successive scores share them. The
+    Chamfer distance is a mean over random surface samples (fixed seed) against the mesh.
 
     Args:
         truth: the mesh solid.
-        volume_samples: Monte Carlo points per solid.
+        volume_samples: points (about) per solid for alpha and beta.
         chamfer_samples: surface points per shape.
-        rng: seed of the fixed samples (the estimate's samples use the same seed each call, so
-            that successive scores share their random numbers).
+        rng: seed of the fixed samples (the estimate's surface samples use the same seed each
+            call, so that successive scores share their random numbers).
         resolution: mesh longitudes of the estimate's Chamfer mesh.
     """
 
     def __init__(
         self,
         truth: MeshSolid,
-        volume_samples: int = 10_000,
+        volume_samples: int = 4096,
         chamfer_samples: int = 200,
         rng: int = 0,
         resolution: int = 48,
     ) -> None:
+        from hapticsim.metrics.episode import CANDIDATES_PER_SAMPLE, quasi_random_candidates
+
         self.truth = _mesh_arg(truth, "truth")
         self.volume_samples = positive_int(volume_samples, "volume_samples")
         self.chamfer_samples = positive_int(chamfer_samples, "chamfer_samples")
         self.resolution = positive_int(resolution, "resolution", minimum=8)
         self._seed = int(rng)
         gen = as_generator(self._seed)
-        self._interior = truth.sample_interior(self.volume_samples, gen)
+        n = self.volume_samples
+        self._candidates = quasi_random_candidates(CANDIDATES_PER_SAMPLE * n, gen)
+        self._interior = _quasi_random_interior(self.truth, n, gen)
         self._surface = truth.sample_surface(self.chamfer_samples, gen)[0]
 
     def __call__(self, estimate: Superquadric) -> dict[str, float]:
         """``alpha``, ``beta``, ``epsilon``, ``iou``, ``chamfer`` [m] of `estimate`."""
+        from hapticsim.metrics.episode import interior_sample
+
         estimate = superquadric_arg(estimate, "estimate")
+        inside = interior_sample(self._candidates, estimate, self.volume_samples).T
+        n_e, n_s = max(len(inside), 1), max(len(self._interior), 1)
+        alpha = float(np.count_nonzero(~self.truth.contains(inside))) / n_e
+        beta = float(np.count_nonzero(~estimate.contains(self._interior))) / n_s
+        _, iou = intersection_and_iou(alpha, beta, estimate.volume, self.truth.volume, n_s)
         gen = as_generator(self._seed + 1)
-        n = self.volume_samples
-        alpha = float(np.count_nonzero(~self.truth.contains(sample_interior(estimate, n, gen)))) / n
-        beta = float(np.count_nonzero(~estimate.contains(self._interior))) / n
-        _, iou = intersection_and_iou(alpha, beta, estimate.volume, self.truth.volume, n)
         points = sample_surface(estimate, self.chamfer_samples, gen, self.resolution)
         closest, _ = closest_points(self.truth, points, exact=False)
         to_truth = np.linalg.norm(closest - points, axis=1)
@@ -350,6 +364,18 @@ class MeshScorer:
         return {
             "alpha": alpha, "beta": beta, "epsilon": alpha + beta, "iou": iou, "chamfer": chamfer,
         }  # fmt: skip
+
+
+def _quasi_random_interior(truth: MeshSolid, samples: int, gen: np.random.Generator) -> Array:
+    """About `samples` points uniform inside a mesh solid, (k, 3) [m]: the points of a scrambled
+    Sobol sequence in its bounding box (the first ``samples / fill`` of them) that it contains."""
+    from scipy.stats import qmc
+
+    lo, hi = truth.bounds
+    count = int(np.ceil(samples * float(np.prod(hi - lo)) / truth.volume))
+    unit = qmc.Sobol(3, scramble=True, seed=gen).random_base2(int(np.ceil(np.log2(count))))
+    candidates = lo + unit[:count] * (hi - lo)
+    return candidates[truth.contains(candidates)]
 
 
 __all__ = [

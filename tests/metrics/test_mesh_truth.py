@@ -123,11 +123,13 @@ def test_contact_normals_at_an_edge_count_against_its_cone() -> None:
 def test_mesh_scorer_matches_the_one_off_score() -> None:
     solid = l_block()
     est = _estimates(solid, 1, 4)[0]
-    scorer = mt.MeshScorer(solid, volume_samples=20_000, chamfer_samples=500)
+    scorer = mt.MeshScorer(solid, chamfer_samples=500)  # 4096 quasi-random volume samples
     fast = scorer(est)
-    slow = mt.score_mesh(est, solid, rng=9, volume_samples=20_000, chamfer_samples=500)
-    # independent samples: within 4 standard errors (0.0035 each at 20k) and 10 % in Chamfer
-    assert fast["alpha"] == pytest.approx(slow.alpha, abs=0.015)
-    assert fast["beta"] == pytest.approx(slow.beta, abs=0.015)
+    slow = mt.score_mesh(est, solid, rng=9, volume_samples=400_000, chamfer_samples=500)
+    # Measured over 6 estimates x 3 scorer seeds against 400k Monte Carlo samples (standard
+    # error 0.0008): |alpha error| <= 0.0068, |beta error| <= 0.0025 (RMS 0.0025 / 0.0009);
+    # Monte Carlo at 10k has a standard error of 0.005. Chamfer: random samples, within 10 %.
+    assert fast["alpha"] == pytest.approx(slow.alpha, abs=0.012)
+    assert fast["beta"] == pytest.approx(slow.beta, abs=0.006)
     assert fast["chamfer"] == pytest.approx(slow.chamfer, rel=0.1)
     assert scorer(est) == fast  # the same samples every call
