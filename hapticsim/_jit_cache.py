@@ -15,6 +15,8 @@ its cache elsewhere (``NUMBA_CACHE_DIR``) and this check does nothing.
 from __future__ import annotations
 
 import hashlib
+import os
+import sys
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -60,3 +62,34 @@ def ensure_fresh() -> None:
         stamp.write_text(current + "\n")
     except OSError:
         pass
+
+
+def is_cold() -> bool:
+    """True when the compiled kernels will be compiled on first use here: no cached index of the
+    EOF kernel beside its source, in a package directory numba can write to (and no
+    ``NUMBA_CACHE_DIR`` sending the cache elsewhere, where this cannot tell)."""
+    pycache = _PACKAGE / "geometry" / "__pycache__"
+    if os.environ.get("NUMBA_CACHE_DIR") or not os.access(pycache.parent, os.W_OK):
+        return False
+    return not any(pycache.glob("_eof_compiled.*.nbi"))
+
+
+#: Shown on a terminal before the first compile of a fresh installation.
+COLD_NOTE = (
+    "hapticsim: compiling the fitter's kernels on first use (about 30-90 s on 2 cores; "
+    "cached for later runs)"
+)
+
+
+def note_if_cold(stream=None) -> bool:  # noqa: ANN001 - a text stream
+    """Print :data:`COLD_NOTE` on `stream` (default stderr) when it is a terminal and the cache
+    is cold; returns whether it printed. Pipes and files (scripts, tests) get nothing."""
+    stream = sys.stderr if stream is None else stream
+    try:
+        if not stream.isatty() or not is_cold():
+            return False
+        stream.write(COLD_NOTE + "\n")
+        stream.flush()
+    except (OSError, ValueError):
+        return False
+    return True

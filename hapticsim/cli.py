@@ -472,6 +472,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         args.argv = list(sys.argv[1:] if argv is None else argv)  # recorded by `suite run`
+        from hapticsim._jit_cache import note_if_cold
+
+        note_if_cold()  # a fresh installation's first fit compiles for ~30-90 s: say so
         return int(args.func(args))
     except HapticsimError as exc:
         message = " ".join(str(exc).split())

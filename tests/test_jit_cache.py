@@ -51,3 +51,35 @@ def test_the_list_names_every_module_with_cached_kernels() -> None:
         and "njit" in p.read_text()
     }  # fmt: skip
     assert cached <= set(_jit_cache.COMPILED), f"add {sorted(cached - set(_jit_cache.COMPILED))}"
+
+
+class _Terminal:
+    def __init__(self, tty: bool) -> None:
+        self.tty, self.text = tty, ""
+
+    def isatty(self) -> bool:
+        return self.tty
+
+    def write(self, text: str) -> None:
+        self.text += text
+
+    def flush(self) -> None:
+        pass
+
+
+def test_a_cold_cache_is_announced_on_a_terminal_only(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(_jit_cache, "_PACKAGE", tmp_path)
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    (tmp_path / "geometry" / "__pycache__").mkdir(parents=True)
+    terminal, pipe = _Terminal(True), _Terminal(False)
+    assert _jit_cache.is_cold()
+    assert _jit_cache.note_if_cold(terminal) and "compiling" in terminal.text
+    assert not _jit_cache.note_if_cold(pipe) and pipe.text == ""  # scripts and tests: silent
+    index = tmp_path / "geometry" / "__pycache__" / "_eof_compiled.kernel-1.py311.nbi"
+    index.write_bytes(b"x")
+    assert not _jit_cache.is_cold() and not _jit_cache.note_if_cold(_Terminal(True))
+    index.unlink()
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))  # cannot tell: silent
+    assert not _jit_cache.is_cold()
