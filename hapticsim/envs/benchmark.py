@@ -192,9 +192,13 @@ def benchmark_touch(
     }  # fmt: skip
 
 
-def _single_steps(backend: str, seed: int, steps: int, env_kwargs: dict[str, Any]) -> list[float]:
+def _single_steps(
+    backend: str, seed: int, steps: int, env_kwargs: dict[str, Any], barrier: Any = None
+) -> tuple[list[float], float, float]:
     """Wall time [s] of each of `steps` random steps of one environment (a reset inside the
-    step that needs it, as a vector environment's autoreset does), after a warm-up."""
+    step that needs it, as a vector environment's autoreset does), after a warm-up; and the
+    clock at the start and end of the timed steps. With a `barrier`, the timed steps start when
+    every party has warmed up (several processes running at once)."""
     import gymnasium as gym
 
     from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
@@ -206,25 +210,26 @@ def _single_steps(backend: str, seed: int, steps: int, env_kwargs: dict[str, Any
     for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
         env.step(env.action_space.sample())
     env.reset(seed=seed)
+    if barrier is not None:
+        barrier.wait()
     times = []
+    begin = time.perf_counter()
     for _ in range(steps):
         t = time.perf_counter()
         _, _, terminated, truncated, _ = env.step(env.action_space.sample())
         if terminated or truncated:
             env.reset()
         times.append(time.perf_counter() - t)
+    end = time.perf_counter()
     env.close()
-    return times
+    return times, begin, end
 
 
 def _free_running(args: tuple[str, int, int, dict[str, Any], Any]) -> tuple[int, float, float]:
     """One of several independent single environments started together: (steps, start, end)."""
     backend, seed, steps, env_kwargs, barrier = args
-    _single_steps(backend, seed, WARMUP_STEPS, env_kwargs)  # load the compiled code
-    barrier.wait()
-    start = time.perf_counter()
-    _single_steps(backend, seed, steps, env_kwargs)
-    return steps, start, time.perf_counter()
+    _, begin, end = _single_steps(backend, seed, steps, env_kwargs, barrier)
+    return steps, begin, end
 
 
 def lockstep_bound(step_seconds: Any, num_envs: int, draws: int = 200, seed: int = 0) -> float:
@@ -287,8 +292,8 @@ def benchmark_vector_env(
             f"need num_envs >= 1 and steps >= num_envs, got {num_envs}, {steps}"
         )
     register_envs()
-    times = _single_steps(backend, seed, steps, env_kwargs)
-    single_rate = steps / float(np.sum(times))
+    times, begin, end = _single_steps(backend, seed, steps, env_kwargs)
+    single_rate = steps / (end - begin)
     vec = gym.make_vec(
         HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async", backend=backend,
         **env_kwargs,

@@ -16,7 +16,7 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.constants import EPS_MAX, EPS_MIN
+from hapticsim.constants import EPS_MAX, EPS_MIN, SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.objects import ObjectDistribution, ObjectSet
 from hapticsim.envs.support import SUPPORTS
@@ -128,8 +128,8 @@ class HapticExploreConfig:
     hand: str | os.PathLike[str] = "hapticsim"
     camera_size: tuple[int, int] = (160, 120)
     compute_metrics: bool = True
-    metric_samples: int = 4096
-    chamfer_samples: int = 128
+    metric_samples: int = SCORE_SAMPLES
+    chamfer_samples: int = SCORE_CHAMFER_POINTS
     width: int = 480
     height: int = 360
 

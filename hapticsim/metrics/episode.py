@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import as_generator, positive_int
+from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry._eof_compiled import TINY
 from hapticsim.geometry.superquadric import superquadric_arg
@@ -46,9 +47,6 @@ from hapticsim.metrics.volume import _max_taper_jacobian, intersection_and_iou
 
 Array = NDArray[np.float64]
 
-#: Interior samples per solid and Chamfer points per surface of a scorer by default.
-DEFAULT_SAMPLES: int = 4096
-DEFAULT_CHAMFER_POINTS: int = 128
 #: Angular step [rad] of the differences behind the area weights of surface points.
 AREA_STEP: float = 1e-4
 #: Foot-point iterations per distance (converged to < 1e-9 m near the surface after 3-4).
@@ -83,14 +81,21 @@ class EstimateScore:
         }  # fmt: skip
 
 
-def quasi_random_candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
-    """At least `count` candidates of the rejection sampler: the first ``2^m`` points of a
-    scrambled Sobol sequence in [0, 1)^4 (scrambling seeded by `gen`), the first three
-    coordinates mapped to the cube [-1, 1]^3 (``unit``, with ``log(|u| + TINY)``), the fourth
-    the acceptance numbers."""
+def sobol_points(dimensions: int, count: int, gen: np.random.Generator) -> Array:
+    """The first ``2^m >= count`` points of a scrambled Sobol sequence in [0, 1)^dimensions
+    (scrambling seeded by `gen`), (2^m, dimensions): a balanced prefix. The sequence is the same
+    whatever `count`, so a longer set starts with a shorter one."""
     from scipy.stats import qmc
 
-    sobol = qmc.Sobol(4, scramble=True, seed=gen).random_base2(int(np.ceil(np.log2(count))))
+    sobol = qmc.Sobol(dimensions, scramble=True, seed=gen)
+    return sobol.random_base2(int(np.ceil(np.log2(max(count, 1)))))
+
+
+def quasi_random_candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
+    """At least `count` candidates of the rejection sampler from :func:`sobol_points` in four
+    dimensions: the first three coordinates mapped to the cube [-1, 1]^3 (``unit``, with
+    ``log(|u| + TINY)``), the fourth the acceptance numbers."""
+    sobol = sobol_points(4, count, gen)
     unit = np.ascontiguousarray(2.0 * sobol[:, :3].T - 1.0)
     return unit, np.log(np.abs(unit) + TINY), np.ascontiguousarray(sobol[:, 3])
 
@@ -120,11 +125,12 @@ def interior_sample(
     return kernel.interior_points(unit, log_unit, accept, top, count, *kernel.unpack(sq))
 
 
-def _candidate_count(sq: Superquadric, top: float, samples: int, available: int) -> int:
+def _candidate_count(sq: Superquadric, top: float, samples: int, available: int | None) -> int:
     """Candidates for about `samples` kept points of `sq` (its acceptance is
-    ``V / (8 a1 a2 a3 top)``), at most `available`."""
+    ``V / (8 a1 a2 a3 top)``), at most `available` (None: no limit)."""
     acceptance = sq.volume / (8.0 * float(np.prod(sq.a)) * top)
-    return min(available, int(np.ceil(samples / acceptance)))
+    count = int(np.ceil(samples / acceptance))
+    return count if available is None else min(available, count)
 
 
 class TruthScorer:
@@ -140,8 +146,8 @@ class TruthScorer:
     def __init__(
         self,
         truth: Superquadric,
-        samples: int = DEFAULT_SAMPLES,
-        chamfer_samples: int = DEFAULT_CHAMFER_POINTS,
+        samples: int = SCORE_SAMPLES,
+        chamfer_samples: int = SCORE_CHAMFER_POINTS,
         rng: np.random.Generator | int | None = 0,
     ) -> None:
         self.truth = superquadric_arg(truth, "truth")
@@ -157,7 +163,10 @@ class TruthScorer:
     def _set_truth(self, truth: Superquadric, gen: np.random.Generator) -> None:
         self.truth = truth
         self._truth_params = kernel.unpack(truth)
-        candidates = quasi_random_candidates(CANDIDATES_PER_SAMPLE * self.samples, gen)
+        # only as many candidates as the truth's own acceptance needs (the scrambled sequence
+        # starts the same whatever its length, so the sample is that of the full set)
+        need = _candidate_count(truth, _max_taper_jacobian(truth.taper), self.samples, None)
+        candidates = quasi_random_candidates(min(need, CANDIDATES_PER_SAMPLE * self.samples), gen)
         self._truth_inside = interior_sample(candidates, truth, self.samples)
         self._truth_surface = self._surface(self._truth_params)
 

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import as_generator, points_array, positive_int
+from hapticsim.constants import SCORE_SAMPLES
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh_solid import MeshSolid
@@ -327,7 +328,7 @@ class MeshScorer:
     def __init__(
         self,
         truth: MeshSolid,
-        volume_samples: int = 4096,
+        volume_samples: int = SCORE_SAMPLES,
         chamfer_samples: int = 200,
         rng: int = 0,
         resolution: int = 48,
@@ -369,12 +370,11 @@ class MeshScorer:
 def _quasi_random_interior(truth: MeshSolid, samples: int, gen: np.random.Generator) -> Array:
     """About `samples` points uniform inside a mesh solid, (k, 3) [m]: the points of a scrambled
     Sobol sequence in its bounding box (the first ``samples / fill`` of them) that it contains."""
-    from scipy.stats import qmc
+    from hapticsim.metrics.episode import sobol_points
 
     lo, hi = truth.bounds
     count = int(np.ceil(samples * float(np.prod(hi - lo)) / truth.volume))
-    unit = qmc.Sobol(3, scramble=True, seed=gen).random_base2(int(np.ceil(np.log2(count))))
-    candidates = lo + unit[:count] * (hi - lo)
+    candidates = lo + sobol_points(3, count, gen)[:count] * (hi - lo)
     return candidates[truth.contains(candidates)]
 
 
