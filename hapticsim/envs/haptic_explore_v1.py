@@ -16,7 +16,6 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.envs.analytic import raycast_many
 from hapticsim.envs.haptic_explore_v0 import (
     OBS_BOUND,
     HapticExploreConfig,
@@ -27,6 +26,7 @@ from hapticsim.envs.haptic_explore_v0 import (
 from hapticsim.envs.touch import encode_touch
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry.rays import raycast_many
 
 Array = NDArray[np.float64]
 

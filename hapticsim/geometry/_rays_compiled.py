@@ -1,6 +1,6 @@
 """Compiled ray casting on a superquadric (numba): the first point where a ray enters the solid.
 
-The search of :func:`hapticsim.envs.analytic.raycast_many`, compiled: the ray
+The search of :func:`hapticsim.geometry.rays.raycast_many`, compiled: the ray
 ``origin + s * direction``, ``s in [0, length]``, is sampled on a coarse grid, and the step into
 the solid (``F <= 1``, i.e. ``log F <= 0``, with the one compiled inside-outside function) is
 refined on finer grids that each span one step of the previous one. Only the ray's chord through a

@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hapticsim.envs.analytic import AnalyticBackend, raycast, raycast_many
+from hapticsim.envs.analytic import AnalyticBackend
 from hapticsim.envs.touch import Touch
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric, random_rotation
+from hapticsim.geometry.rays import raycast, raycast_many
 
 SHAPES = {
     "box": Superquadric(a=(0.025, 0.035, 0.05), eps=(0.1, 0.1), taper=(0.4, 0.3)),
