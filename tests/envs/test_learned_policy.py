@@ -114,19 +114,19 @@ def test_the_shipped_policy_explores_better_than_random_touches() -> None:
     """A regression guard on the shipped weights and the observation they were trained on.
 
     If the compact observation, the action mapping or the weights change out of step, the actor
-    acts no better than at random. Measured (analytic backend, random objects, seeds 500..503,
-    default fit schedule), epsilon after 5 touches: learned 0.023, 0.043, 0.037, 0.037; random
-    0.212, 0.098, 0.130, 0.033 (mean 0.118; a lucky random episode can come close, so random
-    is held to its mean). At export, with the fitter's seeds still drawn from the environment's
-    stream: learned 0.028, 0.026, 0.035, 0.037; random 0.254, 0.310, 0.125, 0.207.
+    acts no better than at random. Measured (analytic backend, random objects, seeds 500..507,
+    default fit schedule), epsilon after 5 touches, on an AMD EPYC: learned 0.022, 0.035, 0.035,
+    0.046, 0.059, 0.033, 0.026, 0.034 (mean 0.036); random 0.040, 0.094, 0.048, 0.033, 0.041,
+    0.102, 0.141, 0.097 (mean 0.075): a ratio of 0.49. On the Intel CPU of the export, seeds
+    500..503: learned 0.023, 0.043, 0.037, 0.037, random 0.212, 0.098, 0.130, 0.033. Random
+    episodes move most between CPUs (the fits of their scattered contacts), so the guard holds
+    the learned mean to a share of random's over eight paired episodes, not random to a bar.
     """
     env = HapticExploreEnv(backend="analytic", objects="random", touch_budget=5)
-    learned = [
-        run_episode(env, make_policy("learned", env), seed=s).epsilon[-1] for s in range(500, 504)
-    ]
+    seeds = range(500, 508)
+    learned = [run_episode(env, make_policy("learned", env), seed=s).epsilon[-1] for s in seeds]
     rand = [
-        run_episode(env, make_policy("random", env, rng=s), seed=s).epsilon[-1]
-        for s in range(500, 504)
+        run_episode(env, make_policy("random", env, rng=s), seed=s).epsilon[-1] for s in seeds
     ]
     assert max(learned) < 0.08, learned
-    assert np.mean(rand) > 0.08, rand  # the bar separates the two here
+    assert np.mean(learned) < 0.6 * np.mean(rand), (learned, rand)
