@@ -25,15 +25,16 @@ ALLOWED: dict[str, set[str]] = {
     "data": {"geometry"},
     "metrics": {"geometry"},
     "fitting": {"geometry"},
-    "sim": {"geometry", "data"},
-    "envs": {"geometry", "data", "metrics", "fitting", "sim"},
-    "experiments": {"geometry", "data", "metrics", "fitting", "sim", "envs"},
-    "suites": {"geometry", "data", "metrics", "fitting", "sim", "envs", "experiments"},
+    "tactile": {"geometry"},
+    "sim": {"geometry", "data", "tactile"},
+    "envs": {"geometry", "data", "metrics", "fitting", "tactile", "sim"},
+    "experiments": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
+    "suites": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "experiments"},
 }
 
 
 #: Packages below ``sim`` that must never import the simulator or the environment API.
-CORE = ("geometry", "data", "metrics", "fitting")
+CORE = ("geometry", "data", "metrics", "fitting", "tactile")
 CORE_FORBIDDEN = {"mujoco", "gymnasium"}
 
 

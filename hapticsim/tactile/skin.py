@@ -1,0 +1,246 @@
+"""The skin's elastic model and the sensor model of its taxels.
+
+**Skin** (:class:`SkinModel`): a linear elastic layer of Young's modulus E [Pa] and thickness h
+[m] on a rigid core, modelled as a Winkler (mattress) foundation: every taxel's patch of skin is
+an independent spring compressed along its own normal, so the pressure under a taxel is
+
+    p = E * d / h,
+
+d the depth [m] by which the undeformed skin surface at the taxel lies inside the object, along
+the taxel's inward normal (:mod:`hapticsim.tactile.depth`). A sphere of radius R pressed by delta
+into a flat face then carries ``F = pi E R delta^2 / h`` (:meth:`SkinModel.sphere_force`).
+
+**Sensor** (:class:`SensorModel`): what the taxel electronics make of the pressure image, in
+this order: crosstalk (a Gaussian blur of std ``blur`` taxels, zero beyond the pad's edge),
+per-taxel gains (a fixed pattern, std ``gain_spread``), white noise of std ``noise`` [Pa] per
+reading, saturation at ``full_scale``, quantisation to ``bits`` bits of the full scale, the
+detection ``threshold`` (readings below it are 0) and dead taxels (a fixed pattern of the share
+``dead_fraction``, reading 0). The fixed patterns are drawn once per sensor
+(:meth:`SensorModel.pattern`), the noise per reading; both from seeded generators.
+
+numpy only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import finite_float, positive_int
+from hapticsim.errors import InvalidInputError
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SkinModel:
+    """A linear elastic skin layer (module docstring).
+
+    Attributes:
+        modulus: Young's modulus E [Pa], > 0.
+        thickness: layer thickness h [m], > 0.
+    """
+
+    modulus: float = 2.0e5
+    thickness: float = 0.002
+
+    def __post_init__(self) -> None:
+        finite_float(self.modulus, "modulus", low=1.0, high=1e12)
+        finite_float(self.thickness, "thickness", low=1e-6, high=0.1)
+
+    @property
+    def stiffness(self) -> float:
+        """E / h [Pa/m]: pressure per metre of depth."""
+        return self.modulus / self.thickness
+
+    def pressure(self, depth: Array) -> Array:
+        """Pressure [Pa] of depths [m] (any shape; negative depths give 0)."""
+        return self.stiffness * np.maximum(np.asarray(depth, dtype=np.float64), 0.0)
+
+    def depth(self, pressure: Array) -> Array:
+        """The depth [m] a pressure [Pa] reading stands for (inverse of :meth:`pressure`)."""
+        return np.maximum(np.asarray(pressure, dtype=np.float64), 0.0) / self.stiffness
+
+    def sphere_force(self, radius: float, penetration: float) -> float:
+        """Normal force [N] of a sphere of `radius` [m] pressed `penetration` [m] into a flat
+        face: ``pi E R delta^2 / h`` (the Winkler foundation integrated over the contact
+        disc, to first order in delta / R)."""
+        d = max(float(penetration), 0.0)
+        return float(np.pi * self.stiffness * radius * d * d)
+
+    def sphere_penetration(self, radius: float, force: float) -> float:
+        """The penetration [m] at which a sphere of `radius` [m] carries `force` [N] on a flat
+        face (inverse of :meth:`sphere_force`)."""
+        return float(np.sqrt(max(float(force), 0.0) / (np.pi * self.stiffness * radius)))
+
+
+@dataclass(frozen=True)
+class FixedPattern:
+    """A sensor's fixed pattern: per-taxel gains and dead taxels.
+
+    Attributes:
+        gain: (pads, rows, cols) float, multiplicative gains (>= 0).
+        dead: (pads, rows, cols) bool, True for taxels that read 0.
+    """
+
+    gain: Array
+    dead: NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    """The taxels' electronics (module docstring); the defaults are an ideal sensor.
+
+    Attributes:
+        noise: std of the white noise per taxel and reading [Pa], >= 0.
+        full_scale: saturation [Pa], > 0 (inf: none).
+        bits: quantisation of [0, full_scale] into ``2**bits - 1`` steps, 1..24, or None
+            (needs a finite `full_scale`).
+        gain_spread: std of the per-taxel gains about 1, >= 0.
+        dead_fraction: share of dead taxels, in [0, 1).
+        blur: std of the Gaussian crosstalk kernel [taxels], >= 0.
+        threshold: readings below it are 0 [Pa], >= 0.
+    """
+
+    noise: float = 0.0
+    full_scale: float = float("inf")
+    bits: int | None = None
+    gain_spread: float = 0.0
+    dead_fraction: float = 0.0
+    blur: float = 0.0
+    threshold: float = 0.0
+
+    def __post_init__(self) -> None:
+        finite_float(self.noise, "noise", low=0.0)
+        if not (isinstance(self.full_scale, (int, float)) and self.full_scale > 0):
+            raise InvalidInputError(f"`full_scale` must be > 0 [Pa], got {self.full_scale!r}")
+        if self.bits is not None:
+            positive_int(self.bits, "bits", maximum=24)
+            if not np.isfinite(self.full_scale):
+                raise InvalidInputError("`bits` needs a finite `full_scale` [Pa]")
+        finite_float(self.gain_spread, "gain_spread", low=0.0, high=1.0)
+        if not 0.0 <= finite_float(self.dead_fraction, "dead_fraction") < 1.0:
+            raise InvalidInputError(
+                f"`dead_fraction` must be in [0, 1), got {self.dead_fraction!r}"
+            )
+        finite_float(self.blur, "blur", low=0.0, high=10.0)
+        finite_float(self.threshold, "threshold", low=0.0)
+
+    @property
+    def ideal(self) -> bool:
+        """True when the sensor changes nothing."""
+        return self == SensorModel()
+
+    @property
+    def step(self) -> float:
+        """Quantisation step [Pa] (0 without quantisation)."""
+        return 0.0 if self.bits is None else self.full_scale / (2**self.bits - 1)
+
+    def pattern(self, shape: tuple[int, int, int], rng: np.random.Generator) -> FixedPattern:
+        """Draw the fixed pattern of a sensor of `shape` (pads, rows, cols)."""
+        gain = np.ones(shape)
+        if self.gain_spread > 0:
+            gain = np.maximum(1.0 + self.gain_spread * rng.standard_normal(shape), 0.0)
+        dead = np.zeros(shape, dtype=bool)
+        if self.dead_fraction > 0:
+            dead = rng.random(shape) < self.dead_fraction
+        return FixedPattern(gain=gain, dead=dead)
+
+    def apply(
+        self, pressure: Array, pattern: FixedPattern | None, rng: np.random.Generator | None
+    ) -> Array:
+        """The readings [Pa] of ideal pressure images.
+
+        Args:
+            pressure: (pads, rows, cols) float, the skin's pressure [Pa].
+            pattern: the sensor's fixed pattern (None: ideal gains, no dead taxels).
+            rng: the generator of the noise (needed when `noise` > 0).
+
+        Returns:
+            (pads, rows, cols) float readings [Pa], >= 0.
+        """
+        out = np.asarray(pressure, dtype=np.float64)
+        if self.blur > 0:
+            out = gaussian_blur(out, self.blur)
+        if pattern is not None:
+            out = np.where(pattern.dead, 0.0, out * pattern.gain)
+        if self.noise > 0:
+            if rng is None:
+                raise InvalidInputError("a sensor with noise needs a generator `rng`")
+            out = out + self.noise * rng.standard_normal(out.shape)
+        out = np.clip(out, 0.0, self.full_scale)
+        if self.bits is not None:
+            out = np.round(out / self.step) * self.step
+        if self.threshold > 0:
+            out = np.where(out < self.threshold, 0.0, out)
+        if pattern is not None:
+            out = np.where(pattern.dead, 0.0, out)
+        return out
+
+
+def gaussian_blur(images: Array, sigma: float) -> Array:
+    """Separable Gaussian blur of the last two axes of `images` (std `sigma` taxels; the
+    kernel is cut at 3 sigma and the image is zero beyond its edge)."""
+    radius = max(1, int(np.ceil(3.0 * sigma)))
+    x = np.arange(-radius, radius + 1)
+    kernel = np.exp(-0.5 * (x / sigma) ** 2)
+    kernel /= kernel.sum()
+    out = np.asarray(images, dtype=np.float64)
+    for axis in (-1, -2):
+        moved = np.moveaxis(out, axis, -1)
+        padded = np.pad(moved, [(0, 0)] * (moved.ndim - 1) + [(radius, radius)])
+        windows = np.lib.stride_tricks.sliding_window_view(padded, len(kernel), axis=-1)
+        out = np.moveaxis(windows @ kernel, -1, axis)
+    return out
+
+
+@dataclass(frozen=True)
+class SkinPreset:
+    """A named skin: its elastic model, its sensor model and, optionally, its own taxel pitch.
+
+    Attributes:
+        name: the preset's name.
+        skin: the elastic model.
+        sensor: the sensor model.
+        pitch: the taxel pitch [m] the sensor has (the hand's pads are laid out again at it,
+            over the same extent), or None (the hand's own pitch).
+        description: one line on what it models.
+        source: where its numbers come from (and which are assumed).
+    """
+
+    name: str
+    skin: SkinModel = field(default_factory=SkinModel)
+    sensor: SensorModel = field(default_factory=SensorModel)
+    pitch: float | None = None
+    description: str = ""
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise InvalidInputError(
+                f"a skin's `name` must be a non-empty string, got {self.name!r}"
+            )
+        if self.pitch is not None:
+            finite_float(self.pitch, "pitch", low=1e-5, high=0.05)
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready description (for metrics and provenance)."""
+        s = self.sensor
+        return {
+            "name": self.name,
+            "modulus": self.skin.modulus,
+            "thickness": self.skin.thickness,
+            "pitch": self.pitch,
+            "sensor": {
+                "noise": s.noise, "full_scale": None if not np.isfinite(s.full_scale)
+                else s.full_scale, "bits": s.bits, "gain_spread": s.gain_spread,
+                "dead_fraction": s.dead_fraction, "blur": s.blur, "threshold": s.threshold,
+            },
+            "description": self.description,
+            "source": self.source,
+        }  # fmt: skip
+
+
+__all__ = ["FixedPattern", "SensorModel", "SkinModel", "SkinPreset", "gaussian_blur"]
