@@ -8,7 +8,11 @@ For a contact between a fingertip sphere and the object:
 - ``contact.pos`` is the midpoint between the two surfaces and ``contact.dist`` their signed
   distance (< 0: penetration). With ``n`` outward, the fingertip's surface point is the object's
   surface point plus ``dist * n``, so the object's surface point is ``pos - 0.5 * dist * n``.
-- The normal force is the first component of ``mj_contactForce`` (contact frame) [N].
+- The normal force is the first component of ``mj_contactForce`` (contact frame) [N]. A hand
+  with a tactile skin (:mod:`hapticsim.sim.tactile`) feels instead the skin's elastic force of
+  the fingertip's penetration ``delta = -dist``, ``c_f delta^2`` (``c_f = pi E R_f / h``, the
+  sphere law of :class:`~hapticsim.tactile.SkinModel`): what its controllers press against;
+  MuJoCo's force is kept as ``force_exact``.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ class FingertipContact:
         force: normal force [N] (>= 0).
         dist: signed distance between the surfaces [m] (< 0: penetration).
         time: simulation time [s].
+        force_exact: MuJoCo's normal force [N] when `force` is a skin's (else equal to it).
     """
 
     finger: int
@@ -44,6 +49,7 @@ class FingertipContact:
     force: float
     dist: float
     time: float
+    force_exact: float | None = None
 
 
 @dataclass(frozen=True)
@@ -67,6 +73,7 @@ def read_contacts(
     data: mujoco.MjData,
     hand: Hand,
     object_geom_id: int | Collection[int],
+    skin_force: Array | None = None,
 ) -> ContactState:
     """Collect the fingertip/object contacts of the current state (call after a step).
 
@@ -78,6 +85,8 @@ def read_contacts(
         hand: hand ids of `model`.
         object_geom_id: id of the object geom, or the ids of all its geoms (the convex parts
             of a non-convex mesh).
+        skin_force: (fingers,) float, the skins' coefficients c_f [N/m^2]: each fingertip
+            then feels ``c_f * max(-dist, 0)^2`` (module docstring); None: MuJoCo's force.
 
     Returns:
         The contact state.
@@ -118,11 +127,14 @@ def read_contacts(
         if efc[i] >= 0:
             mujoco.mj_contactForce(model, data, i, force6)
             force = max(float(force6[0]), 0.0)
+        exact = force
+        if skin_force is not None:
+            force = float(skin_force[finger]) * max(-dist, 0.0) ** 2
         current = best[finger]
         if current is None or force > current.force:
             best[finger] = FingertipContact(
                 finger=finger, point_world=point, normal_world=normal, force=force, dist=dist,
-                time=now,
+                time=now, force_exact=None if skin_force is None else exact,
             )  # fmt: skip
     return ContactState(tuple(best), other, table)
 

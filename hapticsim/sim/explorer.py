@@ -53,7 +53,8 @@ def planning_config(config: SceneConfig) -> SceneConfig:
     was checked; palm goals are still checked against the arm's reach)."""
     w = config.workspace
     relaxed = replace(w, max_object_radius=max(2.0 * w.max_object_radius, w.reach), clearance=1e-6)
-    return replace(config, mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=relaxed)
+    return replace(config, mesh_resolution=PLANNING_MESH_RESOLUTION, workspace=relaxed,
+                   sensing="exact")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -136,6 +137,8 @@ class Explorer:
             object (e.g. to take a picture).
         planning_scene: the scene the palm planner works on; it must hold the rough object
             (default: :func:`~hapticsim.sim.scene.build_planning_scene` of ``rough.shape``).
+        tactile_rng: with tactile sensing, the generator of the skin's sensor model (its fixed
+            pattern and noise; default seed 0).
     """
 
     def __init__(
@@ -147,6 +150,7 @@ class Explorer:
         progress: Callable[[int], None] | None = None,
         on_pattern_end: Callable[[Explorer], None] | None = None,
         planning_scene: Scene | None = None,
+        tactile_rng: np.random.Generator | None = None,
     ) -> None:
         self.scene = scene
         self.rough = rough
@@ -154,7 +158,7 @@ class Explorer:
         self.config = ExplorerConfig() if config is None else config
         self.progress = progress
         self.on_pattern_end = on_pattern_end
-        self.sim = Simulator(scene)
+        self.sim = Simulator(scene, tactile_rng=tactile_rng)
         if planning_scene is None:
             planning_scene = build_planning_scene(rough.shape, planning_config(scene.config))
         self.planner = PalmPlanner(planning_scene)

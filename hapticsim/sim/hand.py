@@ -61,6 +61,12 @@ def _tip_geom_name(finger: str) -> str:
     return f"{PREFIX}tip/{finger}"
 
 
+def touching_geom_name(finger) -> str:  # noqa: ANN001 - FingerDescription
+    """The scene name of a described finger's touching geom (the model's, or the sphere
+    :func:`attach_hand` adds)."""
+    return PREFIX + finger.geom if finger.geom is not None else _tip_geom_name(finger.name)
+
+
 def _tip_site_name(finger: str) -> str:
     return f"{PREFIX}tip_site/{finger}"
 
@@ -270,7 +276,7 @@ class Hand:
                 coupled.append((int(model.jnt_qposadr[pj]), int(model.jnt_dofadr[pj]),
                                 f.joints.index(c.follows), float(c.ratio)))  # fmt: skip
             site = PREFIX + f.site if f.site is not None else _tip_site_name(f.name)
-            geom = PREFIX + f.geom if f.geom is not None else _tip_geom_name(f.name)
+            geom = touching_geom_name(f)
             postures = {
                 name: np.clip(np.array(f.posture(name), dtype=np.float64), ctrl[:, 0], ctrl[:, 1])
                 for name in POSTURE_NAMES
@@ -391,4 +397,5 @@ __all__ = [
     "attach_hand",
     "compile_scene",
     "finger_index",
+    "touching_geom_name",
 ]

@@ -28,6 +28,17 @@ minimal file::
     tucked = [0.0, 1.4, 1.5]      # postures [rad], one value per joint
     probe = [0.0, 0.3, 1.3]
     sweep = [0.0, 0.35, 1.7]
+    pad = { normal = [0.8, 0.0, 0.6] }   # optional: its taxel pad (see below)
+
+Tactile pads (``hapticsim explore --sensing tactile``; SPEC §9, §11): the optional top-level
+``[pad]`` table sets the grid every fingertip's pad has (``rows``, ``cols``, ``pitch`` [m];
+default :data:`DEFAULT_PAD_GRID`, 21 x 21 taxels 1.5 mm apart), and a finger's ``pad`` table
+where it sits: ``on`` (a geom or site of the fingertip body; default the touching geom),
+``normal`` (the outward direction at the pad's centre, in that element's frame; default the
+fingertip's pulp, between its pointing and flexion directions), ``up`` (the rows' direction),
+``radius`` [m] (the sphere it follows: a sphere or capsule geom's own radius by default, the
+finger's `tip_radius` on a site) or ``flat = true`` (a plate). A pad follows the fingertip's
+curvature: a sphere, the end cap of a capsule, or a flat plate.
 
 Model files are never copied: ``"gymnasium_robotics:envs/assets/hand/reach.xml"`` is read from
 the installed package, ``"hapticsim:hand.xml"`` from hapticsim's models directory.
@@ -61,14 +72,21 @@ DEFAULT_HAND: str = "hapticsim"
 POSTURE_NAMES: tuple[str, ...] = ("tucked", "probe", "sweep")
 #: Actuation modes.
 ACTUATION_MODES: tuple[str, ...] = ("model", "add")
+#: Default tactile grid of every fingertip pad: (rows, cols, pitch [m]). On an 8 mm fingertip
+#: sphere it reaches 107 deg from the pad's centre along its rows and columns: 99 % of the
+#: contacts of the paper strategy lie within about 100 deg of a finger's mean contact direction
+#: (docs/tactile/README.md).
+DEFAULT_PAD_GRID: tuple[int, int, float] = (21, 21, 0.0015)
 #: Directory of the shipped descriptions.
 HANDS_DIR: Path = Path(__file__).resolve().parents[1] / "hands"
 
 _FINGER_KEYS = {
     "name", "thumb", "body", "site", "tip_pos", "geom", "tip_radius", "joints", "actuators",
-    "coupled", *POSTURE_NAMES,
+    "coupled", "pad", *POSTURE_NAMES,
 }  # fmt: skip
-_TOP_KEYS = {"name", "model", "root", "extra", "actuation", "fingers", "sweep_fingers"}
+_TOP_KEYS = {"name", "model", "root", "extra", "actuation", "fingers", "sweep_fingers", "pad"}
+_PAD_KEYS = {"on", "normal", "up", "radius", "flat"}
+_GRID_KEYS = {"rows", "cols", "pitch"}
 _ACTUATION_KEYS = {"mode", "kp", "kv", "joint_margin"}
 
 
@@ -93,6 +111,27 @@ class Coupling:
 
 
 @dataclass(frozen=True)
+class PadDescription:
+    """Where a finger's taxel pad sits (see the module docstring for the TOML keys).
+
+    Attributes:
+        on: the geom or site of the fingertip body that carries it, or None (the finger's
+            touching geom).
+        normal: (3,) outward direction at the pad's centre in the carrier's frame, or None
+            (the fingertip's pulp, :func:`hapticsim.sim.tactile.default_pad_normal`).
+        up: (3,) the rows' direction, or None (:func:`hapticsim.tactile.pad.default_up`).
+        radius: the radius [m] of the sphere the pad follows, or None (the carrier's own).
+        flat: True for a flat plate.
+    """
+
+    on: str | None = None
+    normal: tuple[float, float, float] | None = None
+    up: tuple[float, float, float] | None = None
+    radius: float | None = None
+    flat: bool = False
+
+
+@dataclass(frozen=True)
 class FingerDescription:
     """One finger of a hand description (see the module docstring for the TOML keys).
 
@@ -109,6 +148,7 @@ class FingerDescription:
         actuators: the model's actuators driving `joints` (actuation mode ``"model"``).
         coupled: passive joints following driven ones.
         thumb: True for the thumb.
+        pad: where its taxel pad sits.
     """
 
     name: str
@@ -122,6 +162,7 @@ class FingerDescription:
     actuators: tuple[str, ...] = ()
     coupled: tuple[Coupling, ...] = ()
     thumb: bool = False
+    pad: PadDescription = field(default_factory=PadDescription)
 
     def posture(self, name: str) -> tuple[float, ...]:
         """The joint angles [rad] of a named posture (:data:`POSTURE_NAMES`)."""
@@ -146,6 +187,7 @@ class HandDescription:
         joint_margin: distance kept from the joint limits [rad].
         sweep_fingers: indices of the fingers that sweep edges (default: the first three
             after the thumb).
+        pad_grid: (rows, cols, pitch [m]) of every fingertip's taxel pad.
         source: the TOML file, or None.
     """
 
@@ -158,6 +200,7 @@ class HandDescription:
     kv: float = 0.05
     joint_margin: float = 0.0
     sweep_fingers: tuple[int, ...] = ()
+    pad_grid: tuple[int, int, float] = DEFAULT_PAD_GRID
     source: Path | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
@@ -222,6 +265,59 @@ def _names(value: Any, name: str, where: str) -> tuple[str, ...]:
     return tuple(value)
 
 
+def _vector(value: Any, name: str, where: str) -> tuple[float, float, float]:
+    if not isinstance(value, list) or len(value) != 3:
+        raise _err(where, f"`{name}` must be [x, y, z], got {value!r}")
+    out = tuple(_float(v, name, where) for v in value)
+    if math.hypot(*out) < 1e-9:
+        raise _err(where, f"`{name}` must be a non-zero vector, got {value!r}")
+    return out  # type: ignore[return-value]
+
+
+def _pad(raw: Any, where: str) -> PadDescription:
+    here = f"{where}, pad"
+    if not isinstance(raw, dict):
+        raise _err(here, f"`pad` must be a table, got {raw!r}")
+    unknown = sorted(set(raw) - _PAD_KEYS)
+    if unknown:
+        raise _err(here, f"unknown keys {unknown}; the keys are {sorted(_PAD_KEYS)}")
+    on = raw.get("on")
+    if on is not None and (not isinstance(on, str) or not on):
+        raise _err(here, f"`on` must be a geom or site name, got {on!r}")
+    flat = raw.get("flat", False)
+    if not isinstance(flat, bool):
+        raise _err(here, f"`flat` must be true or false, got {flat!r}")
+    radius = raw.get("radius")
+    if radius is not None:
+        radius = _float(radius, "radius", here, low=1e-4)
+        if flat:
+            raise _err(here, "a flat pad has no `radius`")
+    return PadDescription(
+        on=on, normal=None if "normal" not in raw else _vector(raw["normal"], "normal", here),
+        up=None if "up" not in raw else _vector(raw["up"], "up", here), radius=radius, flat=flat,
+    )  # fmt: skip
+
+
+def _grid(raw: Any, where: str) -> tuple[int, int, float]:
+    here = f"{where}, [pad]"
+    if not isinstance(raw, dict):
+        raise _err(here, f"must be a table, got {raw!r}")
+    unknown = sorted(set(raw) - _GRID_KEYS)
+    if unknown:
+        raise _err(here, f"unknown keys {unknown}; the keys are {sorted(_GRID_KEYS)}")
+    rows_d, cols_d, pitch_d = DEFAULT_PAD_GRID
+    counts = []
+    for key, default in (("rows", rows_d), ("cols", cols_d)):
+        value = raw.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise _err(here, f"`{key}` must be a whole number >= 1, got {value!r}")
+        counts.append(value)
+    pitch = _float(raw.get("pitch", pitch_d), "pitch", here, low=1e-5)
+    if pitch > 0.05:
+        raise _err(here, f"`pitch` must be at most 0.05 m, got {pitch!r}")
+    return counts[0], counts[1], pitch
+
+
 def _finger(raw: Any, k: int, where: str) -> FingerDescription:
     if not isinstance(raw, dict):
         raise _err(where, f"[[fingers]] entry {k} must be a table, got {raw!r}")
@@ -280,6 +376,7 @@ def _finger(raw: Any, k: int, where: str) -> FingerDescription:
         name=name, body=body, joints=joints, postures=tuple(postures.items()),
         tip_radius=_float(raw["tip_radius"], "tip_radius", here, low=1e-4), site=site,
         tip_pos=tip_pos, geom=geom, actuators=actuators, coupled=tuple(coupled), thumb=thumb,
+        pad=_pad(raw["pad"], here) if "pad" in raw else PadDescription(),
     )  # fmt: skip
 
 
@@ -343,6 +440,7 @@ def parse_hand(data: Mapping[str, Any], base: Path, where: str) -> HandDescripti
         kv=_float(actuation.get("kv", 0.05), "kv", where, low=0.0),
         joint_margin=_float(actuation.get("joint_margin", 0.0), "joint_margin", where, low=0.0),
         sweep_fingers=tuple(names.index(s) for s in sweep),
+        pad_grid=_grid(data["pad"], where) if "pad" in data else DEFAULT_PAD_GRID,
     )  # fmt: skip
     check_against_model(hand, where)
     return hand
@@ -395,6 +493,14 @@ def check_against_model(hand: HandDescription, where: str) -> None:
                 raise _err(here, f"no geom {f.geom!r} in {file}")
             if geom.parent.name != f.body:
                 raise _err(here, f"geom {f.geom!r} is on body {geom.parent.name!r}, not on the "
+                           f"fingertip body {f.body!r}")  # fmt: skip
+        on = f.pad.on
+        if on is not None:
+            carrier = spec.geom(on) or spec.site(on)
+            if carrier is None:
+                raise _err(here, f"pad: no geom or site {on!r} in {file}")
+            if carrier.parent.name != f.body:
+                raise _err(here, f"pad: {on!r} is on body {carrier.parent.name!r}, not on the "
                            f"fingertip body {f.body!r}")  # fmt: skip
         for j in (*f.joints, *(c.joint for c in f.coupled)):
             joint = spec.joint(j)
@@ -480,7 +586,9 @@ __all__ = [
     "HAND_NAMES",
     "HandDescription",
     "HandDescriptionError",
+    "DEFAULT_PAD_GRID",
     "POSTURE_NAMES",
+    "PadDescription",
     "check_against_model",
     "load_hand",
     "parse_hand",

@@ -1,4 +1,10 @@
-"""Collects recorded fingertip contacts, pattern by pattern, up to a capacity."""
+"""Collects recorded fingertip contacts, pattern by pattern, up to a capacity.
+
+With tactile sensing each contact comes with what the skin felt
+(:class:`~hapticsim.sim.tactile.SensedContact`): the contact estimated from the finger's pad is
+what the exploration records (``points_clean``), MuJoCo's exact contact is kept beside it
+(``points_exact``), and every pad's reading at that moment is kept for ``tactile.npz``.
+"""
 
 from __future__ import annotations
 
@@ -28,6 +34,10 @@ class Recorder:
         self.contacts: list[FingertipContact] = []
         self.pattern_of: list[int] = []
         self.pattern_kinds: list[str] = []
+        #: with tactile sensing, what the skin felt at each contact (else empty).
+        self.sensed: list = []
+        #: touches the skin did not feel (not recorded).
+        self.unfelt = 0
 
     def __len__(self) -> int:
         return len(self.contacts)
@@ -44,12 +54,23 @@ class Recorder:
         self.pattern_kinds.append(kind)
         return len(self.pattern_kinds) - 1
 
-    def add(self, contact: FingertipContact, pattern: int) -> bool:
-        """Keep a contact; returns False (and drops it) when full."""
+    @property
+    def tactile(self) -> bool:
+        """True when the contacts were sensed by the skin."""
+        return bool(self.sensed)
+
+    def add(self, contact: FingertipContact, pattern: int, sensed=None) -> bool:  # noqa: ANN001
+        """Keep a contact (and with tactile sensing, what the skin felt: a
+        :class:`~hapticsim.sim.tactile.SensedContact` with an estimate); returns False (and
+        drops it) when full."""
         if self.full:
             return False
+        if self.contacts and (sensed is not None) != bool(self.sensed):
+            raise InvalidInputError("a recorder holds exact or tactile contacts, not both")
         self.contacts.append(contact)
         self.pattern_of.append(int(pattern))
+        if sensed is not None:
+            self.sensed.append(sensed)
         return True
 
     def arrays(self, start: int = 0) -> dict[str, np.ndarray]:
@@ -61,17 +82,54 @@ class Recorder:
         Returns:
             ``points_clean`` (n, 3) [m, world], ``normals_clean`` (n, 3) outward unit normals,
             ``finger`` (n,) int, ``force`` (n,) normal force [N], ``time`` (n,) [s],
-            ``pattern`` (n,) int pattern id, ``dist`` (n,) surface separation [m].
+            ``pattern`` (n,) int pattern id, ``dist`` (n,) surface separation [m]. With tactile
+            sensing ``points_clean``/``normals_clean`` are the estimated contacts and ``force``
+            the skin's; beside them ``points_exact``, ``normals_exact`` (MuJoCo's contacts),
+            ``force_exact`` (MuJoCo's normal force [N]), ``sigma`` (n,) the estimate's
+            per-coordinate std [m], ``area`` (n,) [m^2] and ``taxels`` (n,) lit taxels.
         """
-        c = self.contacts[start:]
-        return {
-            "points_clean": np.array([x.point_world for x in c], dtype=np.float64).reshape(-1, 3),
-            "normals_clean": np.array([x.normal_world for x in c], dtype=np.float64).reshape(-1, 3),
-            "finger": np.array([x.finger for x in c], dtype=np.int64),
-            "force": np.array([x.force for x in c], dtype=np.float64),
-            "time": np.array([x.time for x in c], dtype=np.float64),
+        out = {
+            "points_clean": np.array([x.point_world for x in self.contacts[start:]],
+                                     dtype=np.float64).reshape(-1, 3),
+            "normals_clean": np.array([x.normal_world for x in self.contacts[start:]],
+                                      dtype=np.float64).reshape(-1, 3),
+            "finger": np.array([x.finger for x in self.contacts[start:]], dtype=np.int64),
+            "force": np.array([x.force for x in self.contacts[start:]], dtype=np.float64),
+            "time": np.array([x.time for x in self.contacts[start:]], dtype=np.float64),
             "pattern": np.array(self.pattern_of[start:], dtype=np.int64),
-            "dist": np.array([x.dist for x in c], dtype=np.float64),
+            "dist": np.array([x.dist for x in self.contacts[start:]], dtype=np.float64),
+        }  # fmt: skip
+        if not self.sensed:
+            return out
+        est = [s.estimate for s in self.sensed[start:]]
+        out["points_exact"], out["normals_exact"] = out["points_clean"], out["normals_clean"]
+        out["force_exact"] = np.array(
+            [x.force if x.force_exact is None else x.force_exact for x in self.contacts[start:]],
+            dtype=np.float64,
+        )
+        out["points_clean"] = np.array([e.point for e in est]).reshape(-1, 3)
+        out["normals_clean"] = np.array([e.normal for e in est]).reshape(-1, 3)
+        out["force"] = np.array([e.force for e in est], dtype=np.float64)
+        out["sigma"] = np.array([e.sigma for e in est], dtype=np.float64)
+        out["area"] = np.array([e.area for e in est], dtype=np.float64)
+        out["taxels"] = np.array([e.taxels for e in est], dtype=np.int64)
+        return out
+
+    def tactile_arrays(self, start: int = 0) -> dict[str, np.ndarray]:
+        """Every pad's reading at each recorded contact (``tactile.npz``; empty without tactile
+        sensing): ``images`` (n, pads, rows, cols) readings [Pa], ``depth`` (n, pads, rows,
+        cols) the skin's depth [m], ``slip`` (n, pads, rows, cols, 2) [m/s], ``pad_position``
+        (n, pads, 3) [m, world], ``pad_rotation`` (n, pads, 3, 3), ``time`` (n,) [s]."""
+        readings = [s.reading for s in self.sensed[start:]]
+        if not readings:
+            return {}
+        return {
+            "images": np.stack([r.pressure for r in readings]).astype(np.float32),
+            "depth": np.stack([r.depth for r in readings]).astype(np.float32),
+            "slip": np.stack([r.slip for r in readings]).astype(np.float32),
+            "pad_position": np.stack([r.pad_position for r in readings]),
+            "pad_rotation": np.stack([r.pad_rotation for r in readings]),
+            "time": np.array([r.time for r in readings]),
         }
 
 

@@ -26,7 +26,7 @@ from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
-from hapticsim.sim.hand import Hand, attach_hand, compile_scene
+from hapticsim.sim.hand import Hand, attach_hand, compile_scene, touching_geom_name
 from hapticsim.sim.hand_description import HandDescription, load_hand
 from hapticsim.sim.models import model_path
 from hapticsim.sim.object_mesh import (
@@ -36,6 +36,7 @@ from hapticsim.sim.object_mesh import (
     support_radius,
 )
 from hapticsim.sim.workspace import Workspace
+from hapticsim.tactile import SkinPreset, load_skin
 
 Array = NDArray[np.float64]
 
@@ -71,6 +72,15 @@ class SceneConfig:
         hand: the hand, a shipped name (``"hapticsim"``, ``"shadow"``, ``"adroit"``), the path
             of a TOML description or a :class:`~hapticsim.sim.hand_description.HandDescription`
             (stored as the loaded description).
+        sensing: ``"exact"`` (MuJoCo's contacts, the default) or ``"tactile"`` (a taxel pad on
+            every fingertip, a compliant skin, contacts estimated from the taxels;
+            :mod:`hapticsim.sim.tactile`).
+        skin: with tactile sensing, the skin: a preset name (``"ideal"``, ``"vision"``,
+            ``"capacitive"``), a ``.toml`` skin file or a
+            :class:`~hapticsim.tactile.SkinPreset` (stored as the loaded preset).
+        taxel_model: with tactile sensing, where taxel depths come from:
+            ``"hapticsim"`` (its own model against the exact solid) or ``"mujoco"`` (MuJoCo's
+            ``<tactile>`` sensor).
     """
 
     mesh_resolution: int = DEFAULT_MESH_RESOLUTION
@@ -78,9 +88,23 @@ class SceneConfig:
     timestep: float = DEFAULT_TIMESTEP
     workspace: Workspace = field(default_factory=Workspace)
     hand: HandDescription | str = "hapticsim"
+    sensing: str = "exact"
+    skin: SkinPreset | str = "ideal"
+    taxel_model: str = "hapticsim"
 
     def __post_init__(self) -> None:
+        from hapticsim.sim.tactile import SENSINGS, TAXEL_MODELS
+
         object.__setattr__(self, "hand", load_hand(self.hand))
+        if self.sensing not in SENSINGS:
+            raise SimulationError(
+                f"`sensing` must be one of {', '.join(SENSINGS)}, got {self.sensing!r}"
+            )
+        object.__setattr__(self, "skin", load_skin(self.skin))
+        if self.taxel_model not in TAXEL_MODELS:
+            raise SimulationError(
+                f"`taxel_model` must be one of {', '.join(TAXEL_MODELS)}, got {self.taxel_model!r}"
+            )
         positive_int(self.mesh_resolution, "mesh_resolution", minimum=16)
         finite_float(self.friction, "friction", 0.0, 1.0)
         if not 0.0 < finite_float(self.timestep, "timestep") <= 0.005:
@@ -102,6 +126,8 @@ class Scene:
         config: the build configuration.
         object_geom_ids: ids of all the object's geoms (convex parts of a non-convex mesh).
         collision_method: how the object's collision geometry was made.
+        pads: with tactile sensing, every finger's pad: (carrier kind, carrier id, layout,
+            reach) (:func:`hapticsim.sim.tactile.pad_layouts`); else empty.
     """
 
     model: mujoco.MjModel
@@ -114,6 +140,7 @@ class Scene:
     config: SceneConfig
     object_geom_ids: tuple[int, ...] = ()
     collision_method: str = ""
+    pads: tuple = ()
 
     def __post_init__(self) -> None:
         if not self.object_geom_ids:
@@ -236,7 +263,36 @@ def _compile(
     spec.worldbody.add_camera(
         name=CAMERA_NAME, pos=layout.eye.tolist(), xyaxes=layout.xyaxes.tolist(), fovy=45.0
     )
+    if config.sensing == "tactile":
+        return _compile_tactile(spec, truth, layout, config, collision), collision
     return _scene(compile_scene(spec), truth, layout, config, collision), collision
+
+
+def _compile_tactile(
+    spec: mujoco.MjSpec, truth: Any, layout: _Layout, config: SceneConfig,
+    collision: CollisionParts,
+) -> Scene:  # fmt: skip
+    """Compile a scene whose hand has a skin (:func:`hapticsim.sim.tactile.prepare_skin`); with
+    MuJoCo's taxel model, compile once to lay the pads out on the fingertips, add them, and
+    compile again."""
+    from hapticsim.sim.tactile import add_mujoco_pads, pad_layouts, prepare_skin
+
+    hand = config.hand
+    tips = [touching_geom_name(f) for f in hand.fingers]
+    prepare_skin(spec, hand, config.skin, config.taxel_model, tips)
+    model = compile_scene(spec)
+    pads = tuple(pad_layouts(model, Hand(model, hand), config.skin))
+    if config.taxel_model == "mujoco":  # the pads' ids stay: they are added after them
+        carriers = []
+        for kind, ident, pad, _ in pads:
+            geom = kind == "geom"
+            body = int(model.geom_bodyid[ident] if geom else model.site_bodyid[ident])
+            pos = (model.geom_pos if geom else model.site_pos)[ident]
+            quat = (model.geom_quat if geom else model.site_quat)[ident]
+            carriers.append((model.body(body).name, pos.copy(), quat.copy(), pad))
+        add_mujoco_pads(spec, carriers)
+        model = compile_scene(spec)
+    return replace(_scene(model, truth, layout, config, collision), pads=pads)
 
 
 def _part_name(k: int) -> str:
@@ -288,7 +344,7 @@ def _moved(scene: Scene, collision: CollisionParts, truth: Superquadric) -> Scen
     mujoco.mju_mat2Quat(quat, np.column_stack([x, y, np.cross(x, y)]).ravel())
     model.cam_pos[camera] = layout.eye
     model.cam_quat[camera] = quat
-    return _scene(model, truth, layout, scene.config, collision)
+    return replace(_scene(model, truth, layout, scene.config, collision), pads=scene.pads)
 
 
 def _shape_key(truth: Superquadric | MeshSolid) -> bytes:
@@ -302,7 +358,8 @@ def _shape_key(truth: Superquadric | MeshSolid) -> bytes:
 def _config_key(config: SceneConfig) -> tuple[object, ...]:
     w = config.workspace
     return (config.mesh_resolution, config.friction, config.timestep, w.base_world.tobytes(),
-            w.reach, w.max_object_radius, w.clearance, config.hand.key)  # fmt: skip
+            w.reach, w.max_object_radius, w.clearance, config.hand.key, config.sensing,
+            repr(config.skin), config.taxel_model)  # fmt: skip
 
 
 class SceneCache:

@@ -95,9 +95,16 @@ class Simulator:
     Args:
         scene: the compiled scene.
         servo: control-loop settings.
+        tactile_rng: with tactile sensing (the scene's configuration), the generator of the
+            skin's sensor model (default seed 0).
     """
 
-    def __init__(self, scene: Scene, servo: ServoConfig | None = None) -> None:
+    def __init__(
+        self,
+        scene: Scene,
+        servo: ServoConfig | None = None,
+        tactile_rng: np.random.Generator | None = None,
+    ) -> None:
         self.scene = scene
         self.model = scene.model
         self.hand = scene.hand
@@ -122,6 +129,16 @@ class Simulator:
         self._warnings = self.data.warning.number  # (mjNWARNING,) int view
         self._rotvec = np.zeros(3)
         self._quat_buf = np.zeros(4)
+        #: the fingertips' taxel pads, with tactile sensing (None with exact sensing).
+        self.tactile = None
+        #: the skins' force coefficients per finger (tactile sensing), else None.
+        self._skin_force = None
+        if scene.config.sensing == "tactile":
+            from hapticsim.sim.tactile import TactileHand
+
+            rng = np.random.default_rng(0) if tactile_rng is None else tactile_rng
+            self.tactile = TactileHand(scene, rng)
+            self._skin_force = self.tactile.force_coefficients
 
     # ------------------------------------------------------------------ state
     @property
@@ -130,7 +147,9 @@ class Simulator:
         after a tick that did not read them)."""
         if self._contacts_stale:
             object_id = self.scene.object_geom_ids
-            self._contacts = read_contacts(self.model, self.data, self.hand, object_id)
+            self._contacts = read_contacts(
+                self.model, self.data, self.hand, object_id, self._skin_force
+            )
             self._contacts_stale = False
         return self._contacts
 
@@ -155,7 +174,9 @@ class Simulator:
         mujoco.mj_resetData(self.model, self.data)
         self.steps = 0
         self.place(palm_world, palm_rot_world, postures)
-        self._contacts = read_contacts(self.model, self.data, self.hand, self.scene.object_geom_ids)
+        self._contacts = read_contacts(
+            self.model, self.data, self.hand, self.scene.object_geom_ids, self._skin_force
+        )
         self._contacts_stale = False
 
     def place(

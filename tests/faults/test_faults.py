@@ -293,11 +293,11 @@ def test_ctrl_c_during_explore_leaves_no_file(
     # delay is not a fixed place: since the fast loop the whole run can end within 1.5 s)
     real_add, sent = Recorder.add, []
 
-    def add(self, contact, pattern):
+    def add(self, contact, pattern, sensed=None):
         if len(self) == 60 and not sent:
             sent.append(1)
             os.kill(os.getpid(), signal.SIGINT)
-        return real_add(self, contact, pattern)
+        return real_add(self, contact, pattern, sensed)
 
     monkeypatch.setattr(Recorder, "add", add)
     argv = ["explore", "--object", "cube", "--count", "150", "--quiet", "--out",

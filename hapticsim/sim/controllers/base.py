@@ -29,6 +29,8 @@ class FingerTask(ABC):
         self.pattern = pattern
         self.done = False
         self.recorded = 0
+        #: touches the finger's pad did not feel (tactile sensing): not recorded.
+        self.unfelt = 0
         self.message = ""
 
     def tip_radius(self, sim: Simulator) -> float:
@@ -36,8 +38,17 @@ class FingerTask(ABC):
         return sim.hand.fingers[self.finger].tip_radius
 
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
-        """Keep a contact; stops the task when the recorder is full."""
-        if self.recorder.add(contact, self.pattern):
+        """Keep a contact; stops the task when the recorder is full. With tactile sensing the
+        fingertip's pad is read and the contact it felt is estimated; a touch it did not feel
+        (outside the pad, below the sensor's threshold) is counted and not kept."""
+        sensed = None
+        if sim.tactile is not None:
+            sensed = sim.tactile.sense(sim.data, self.finger)
+            if sensed.estimate is None:
+                self.unfelt += 1
+                self.recorder.unfelt += 1
+                return
+        if self.recorder.add(contact, self.pattern, sensed):
             self.recorded += 1
         if self.recorder.full:
             self.finish(sim, "recorder full")

@@ -1,0 +1,418 @@
+"""The tactile hand of a scene: a taxel pad on every fingertip, the skin's contact softness, and
+the pads' readings at any physics step (SPEC §9, §11).
+
+**Pads.** Every finger carries one pad (:class:`~hapticsim.tactile.pad.PadLayout`) of the hand's
+grid (:attr:`~hapticsim.sim.hand_description.HandDescription.pad_grid`, or the skin preset's own
+pitch over the same extent), laid on its fingertip (the finger's ``pad`` table: a sphere or
+capsule geom's surface, a site with a radius, or a flat plate), centred on the fingertip's pulp
+unless the description says otherwise (:func:`default_pad_normal`).
+
+**Skin contact.** With tactile sensing the touching geoms are the skin: their contacts act at the
+true surface (margin and gap 0; the exact-sensing hand reports contacts within a 1 mm margin and
+pushes from there, so its fingertip never sinks in) and are as soft as the skin. MuJoCo's soft
+contact is linear in the penetration, the skin's law (:meth:`SkinModel.sphere_force`) quadratic:
+the time constant :func:`skin_solref` makes them agree at :data:`CALIBRATION_FORCE`, the force
+of a recorded probe (measured: ``docs/tactile/README.md``).
+
+**Readings** (:meth:`TactileHand.read`): per pad, the depth of every taxel inside the object
+[m], the skin's pressure after the sensor model [Pa] and the taxels' slip [m/s] (the tangential
+velocity of each taxel in contact, in the pad's own (u, v) axes; MuJoCo's slip channels ignore
+the pad's rotation). Depths come from one of :data:`TAXEL_MODELS`:
+
+- ``"hapticsim"`` (default): hapticsim's own taxel model against the object's exact solid
+  (:func:`~hapticsim.tactile.depth.taxel_depths`: the depth along each taxel's normal, from the
+  superquadric's inside-outside function or the mesh's containment), computed when read, so a
+  physics step costs nothing more;
+- ``"mujoco"``: MuJoCo's ``<tactile>`` sensor on a non-colliding, massless mesh geom of the
+  pad's taxels (the object's meshes are compiled with an SDF octree, without which the sensor
+  reads a mesh as nothing): the Euclidean signed distance of the collision meshes, every step.
+
+On primitives, where both exist, the two agree within ``delta^2 / (4 R)`` plus MuJoCo's
+float32 vertices (``tests/sim/test_tactile.py``, ``docs/tactile/README.md``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.sim.hand_description import HandDescription
+from hapticsim.tactile import (
+    PadLayout,
+    SkinPreset,
+    TactileContact,
+    estimate_contact,
+    taxel_depths,
+)
+from hapticsim.tactile.pad import PadError, default_up
+
+Array = NDArray[np.float64]
+
+#: Where taxel depths come from (module docstring).
+TAXEL_MODELS: tuple[str, ...] = ("hapticsim", "mujoco")
+#: Ways of sensing contacts: MuJoCo's exact contact, or estimated from the taxels.
+SENSINGS: tuple[str, ...] = ("exact", "tactile")
+#: Normal force [N] at which the skin's contact softness matches its elastic law: the probe's
+#: recording threshold (:class:`~hapticsim.sim.controllers.ProbeConfig`).
+CALIBRATION_FORCE: float = 0.5
+#: Effective mass [kg] of a fingertip against the object, which turns MuJoCo's time constant
+#: into a static stiffness (``20 m / tau^2`` at MuJoCo's default impedance): a 20 g tip
+#: measured 1000 N/m at tau = 0.02 s (``docs/tactile/README.md``).
+FINGERTIP_MASS: float = 0.02
+#: Name prefix of the pad geoms and meshes (MuJoCo's taxel model).
+PAD_PREFIX: str = "hand/pad/"
+
+
+def skin_solref(skin: SkinPreset, radius: float) -> tuple[float, float]:
+    """MuJoCo ``solref`` (time constant [s], damping ratio 1) of a fingertip of `radius` [m]
+    whose contact carries :data:`CALIBRATION_FORCE` at the penetration the skin's elastic law
+    gives it.
+
+    The skin's secant stiffness there is ``F / delta(F) = sqrt(pi E R F / h)``; MuJoCo's soft
+    contact at steady state, with its default impedance (0.95 beyond 1 mm), has the static
+    stiffness ``F / r = m k_ref d^2 / (1 - d) = 20 m / tau^2`` on an effective mass m
+    (:data:`FINGERTIP_MASS`), hence ``tau = sqrt(20 m / k)``, at least 2 ms (twice the time
+    step).
+    """
+    k = np.sqrt(np.pi * skin.skin.stiffness * radius * CALIBRATION_FORCE)
+    return (max(float(np.sqrt(20.0 * FINGERTIP_MASS / k)), 2e-3), 1.0)
+
+
+def prepare_skin(spec: mujoco.MjSpec, hand: HandDescription, skin: SkinPreset,
+                 taxel_model: str, tip_geoms: list[str]) -> None:  # fmt: skip
+    """Make the touching geoms of an attached hand a skin (margin and gap 0, the skin's
+    softness), and with MuJoCo's taxel model add a pad geom and ``<tactile>`` sensor per
+    finger and an SDF octree to every object mesh (call before compiling).
+
+    Args:
+        spec: the scene spec, hand attached, object added.
+        hand: the hand's description.
+        skin: the skin.
+        taxel_model: one of :data:`TAXEL_MODELS`.
+        tip_geoms: the scene names of the fingers' touching geoms, in finger order.
+    """
+    for f, name in zip(hand.fingers, tip_geoms, strict=True):
+        geom = spec.geom(name)
+        geom.margin = 0.0
+        geom.gap = 0.0
+        geom.solref = list(skin_solref(skin, f.tip_radius))
+    if taxel_model != "mujoco":
+        return
+    for mesh in spec.meshes:
+        if not mesh.name.startswith(PAD_PREFIX):
+            mesh.needsdf = True
+
+
+def add_mujoco_pads(spec: mujoco.MjSpec, pads: list[tuple[str, Array, Array, PadLayout]]) -> None:
+    """Add MuJoCo's taxel model: per pad (carrier's body name, carrier's position (3,) and
+    quaternion (4,) in that body, layout) a non-colliding, massless mesh geom of its taxels in
+    the carrier's frame, and a ``<tactile>`` sensor on it."""
+    for k, (body_name, carrier_pos, carrier_quat, layout) in enumerate(pads):
+        body = spec.body(body_name)
+        pos, _, _ = layout.taxels
+        rows, cols = layout.shape
+        faces = []
+        for i in range(rows - 1):
+            for j in range(cols - 1):
+                a = i * cols + j
+                faces += [a, a + cols, a + 1, a + 1, a + cols, a + cols + 1]
+        if not faces:  # a single row or column: a degenerate strip MuJoCo still accepts
+            faces = [0, 0, 0]
+        name = f"{PAD_PREFIX}{k}"
+        spec.add_mesh(name=name, uservert=pos.ravel().tolist(), userface=faces)
+        body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, contype=0,
+                      conaffinity=0, mass=0.0, group=5, pos=list(carrier_pos),
+                      quat=list(carrier_quat), rgba=[0, 0, 0, 0])  # fmt: skip
+        spec.add_sensor(name=name, type=mujoco.mjtSensor.mjSENS_TACTILE,
+                        objtype=mujoco.mjtObj.mjOBJ_MESH, objname=name,
+                        reftype=mujoco.mjtObj.mjOBJ_GEOM, refname=name)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Pad:
+    """One finger's pad in a compiled scene.
+
+    Attributes:
+        finger: finger index.
+        layout: the taxel grid in the carrier's frame.
+        carrier: ``"geom"`` or ``"site"``.
+        carrier_id: the carrier's id.
+        reach: the longest depth searched [m] (to the fingertip's core).
+        sensor_adr: address of its ``<tactile>`` sensor's data (MuJoCo's taxel model), or -1.
+    """
+
+    finger: int
+    layout: PadLayout
+    carrier: str
+    carrier_id: int
+    reach: float
+    sensor_adr: int = -1
+
+
+@dataclass(frozen=True)
+class TactileReading:
+    """Every pad's reading at one instant.
+
+    Attributes:
+        depth: (pads, rows, cols) float, the skin's depth [m] (before the sensor model).
+        pressure: (pads, rows, cols) float, the readings [Pa] (after the sensor model).
+        slip: (pads, rows, cols, 2) float, the taxels' tangential velocity in the pad's (u, v)
+            axes [m/s], 0 where a taxel does not touch.
+        pad_position: (pads, 3) float, the carriers' origins [m, world].
+        pad_rotation: (pads, 3, 3) float, the carriers' orientations (columns: their axes).
+        time: simulation time [s].
+    """
+
+    depth: Array
+    pressure: Array
+    slip: Array
+    pad_position: Array
+    pad_rotation: Array
+    time: float
+
+
+@dataclass(frozen=True)
+class SensedContact:
+    """A recorded touch as the skin felt it.
+
+    Attributes:
+        estimate: the contact estimated from the finger's pad, or None when the pad felt
+            nothing (the touch is then not recorded).
+        reading: every pad's reading at the moment of the touch.
+    """
+
+    estimate: TactileContact | None
+    reading: TactileReading
+
+
+def default_pad_normal(
+    model: mujoco.MjModel, data: mujoco.MjData, hand, finger: int, carrier_rot: Array
+) -> Array:  # noqa: ANN001 - Hand
+    """Where the fingertip meets objects, in the carrier's frame: halfway between the direction
+    the finger points (from its last driven joint to the tip centre) and the side opposite to
+    the one the tip moves toward when that joint flexes, at the current posture. Measured on the
+    shipped hands with the paper strategy (``docs/tactile/README.md``): the mean contact
+    direction lies there (hapticsim's index finger (0.82, 0.02, 0.57) in its tip's frame,
+    Shadow's (-0.01, 0.83, 0.56)), since the controllers approach with fingers hooked."""
+    f = hand.fingers[finger]
+    tip = data.site_xpos[f.site_id]
+    last = int(np.flatnonzero(model.dof_jntid == model.dof_jntid[f.dof_adr[-1]])[0])
+    joint = int(model.dof_jntid[last])
+    anchor = data.xanchor[joint]
+    pointing = tip - anchor
+    flexing = np.cross(data.xaxis[joint], pointing)
+    direction = pointing / np.linalg.norm(pointing) - flexing / np.linalg.norm(flexing)
+    return carrier_rot.T @ (direction / np.linalg.norm(direction))
+
+
+def pad_layouts(
+    model: mujoco.MjModel, hand, skin: SkinPreset
+) -> list[tuple[str, int, PadLayout, float]]:  # noqa: ANN001, E501
+    """Every finger's pad in a compiled scene: (carrier kind, carrier id, layout, reach).
+
+    Raises:
+        InvalidInputError: a pad on a geom it cannot follow (naming the finger), or a grid
+            that does not fit the fingertip.
+    """
+    from hapticsim.sim.hand import PREFIX
+
+    desc = hand.description
+    rows, cols, pitch = desc.pad_grid
+    data = mujoco.MjData(model)
+    for f in hand.fingers:  # the probe posture: where the pulp points when the hand probes
+        hand.set_finger_qpos(data.qpos, f.index, f.posture("probe"))
+    mujoco.mj_kinematics(model, data)
+    out = []
+    for f, fd in zip(hand.fingers, desc.fingers, strict=True):
+        where = f"hand {desc.name!r}, finger {fd.name!r}, pad"
+        pad = fd.pad
+        if pad.on is None:
+            kind, ident = "geom", int(f.tip_geom_id)
+        else:
+            ident = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, PREFIX + pad.on))
+            kind = "geom"
+            if ident < 0:
+                kind = "site"
+                ident = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, PREFIX + pad.on))
+        if kind == "geom":
+            rot = data.geom_xmat[ident].reshape(3, 3)
+            gtype, size = int(model.geom_type[ident]), model.geom_size[ident]
+        else:
+            rot = data.site_xmat[ident].reshape(3, 3)
+            gtype, size = None, None
+        normal = (np.asarray(pad.normal, float) if pad.normal is not None
+                  else default_pad_normal(model, data, hand, f.index, rot))  # fmt: skip
+        normal = normal / np.linalg.norm(normal)
+        up = np.asarray(pad.up, float) if pad.up is not None else default_up(normal)
+        origin = np.zeros(3)
+        radius: float | None
+        if pad.flat:
+            radius = None
+            if gtype == mujoco.mjtGeom.mjGEOM_BOX:  # on the face the normal points through
+                axis = int(np.argmax(np.abs(normal)))
+                origin[axis] = np.sign(normal[axis]) * size[axis]
+        elif pad.radius is not None:
+            radius = pad.radius
+        elif gtype == mujoco.mjtGeom.mjGEOM_SPHERE:
+            radius = float(size[0])
+        elif gtype == mujoco.mjtGeom.mjGEOM_CAPSULE:  # the end cap toward the tip centre
+            radius = float(size[0])
+            tip_local = rot.T @ (data.site_xpos[f.site_id] - data.geom_xpos[ident])
+            origin[2] = np.sign(tip_local[2] or 1.0) * size[1]
+        elif kind == "site":
+            radius = float(fd.tip_radius)
+        else:
+            name = mujoco.mjtGeom(gtype).name[8:].lower()
+            raise InvalidInputError(
+                f"{where}: a pad follows a sphere or a capsule; on a {name} geom give the "
+                "sphere it follows as `radius` [m], or `flat = true`"
+            )
+        try:
+            layout = PadLayout(rows, cols, pitch, radius, normal, up, origin)
+            if skin.pitch is not None:
+                layout = layout.resampled(skin.pitch)
+        except PadError as exc:
+            raise InvalidInputError(f"{where}: {exc}") from exc
+        reach = radius if radius is not None else 4.0 * skin.skin.thickness
+        out.append((kind, ident, layout, float(reach)))
+    return out
+
+
+class TactileHand:
+    """The pads of a scene's hand and their readings (module docstring).
+
+    Args:
+        scene: a scene built with tactile sensing (its configuration names the skin and the
+            taxel model).
+        rng: the generator of the sensor's fixed pattern (drawn here) and its noise (drawn per
+            reading).
+    """
+
+    def __init__(self, scene, rng: np.random.Generator) -> None:  # noqa: ANN001 - Scene
+        config = scene.config
+        self.scene = scene
+        self.model = scene.model
+        self.skin: SkinPreset = config.skin
+        self.taxel_model: str = config.taxel_model
+        self.rng = rng
+        if not scene.pads:
+            raise InvalidInputError("a tactile hand needs a scene built with sensing='tactile'")
+        pads = []
+        for k, (kind, ident, layout, reach) in enumerate(scene.pads):
+            adr = -1
+            if self.taxel_model == "mujoco":
+                sid = int(mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SENSOR,
+                                            f"{PAD_PREFIX}{k}"))  # fmt: skip
+                adr = int(self.model.sensor_adr[sid])
+            pads.append(Pad(k, layout, kind, ident, reach, adr))
+        self.pads: tuple[Pad, ...] = tuple(pads)
+        shapes = {p.layout.shape for p in pads}
+        if len(shapes) != 1:
+            raise InvalidInputError(f"every pad of a hand must have the same grid, got {shapes}")
+        self.shape: tuple[int, int] = shapes.pop()
+        self.pattern = self.skin.sensor.pattern((len(pads), *self.shape), rng)
+        #: (fingers,) the skin's force coefficients ``pi E R / h`` [N/m^2] of each fingertip
+        #: (its pad's sphere, or its tip radius under a flat pad).
+        radii = [p.layout.radius or f.tip_radius for p, f in zip(pads, scene.hand.fingers,
+                                                                  strict=True)]  # fmt: skip
+        self.force_coefficients = np.pi * self.skin.skin.stiffness * np.asarray(radii)
+        self._vel = np.zeros(6)
+
+    @property
+    def layouts(self) -> tuple[PadLayout, ...]:
+        """Every pad's layout, in finger order."""
+        return tuple(p.layout for p in self.pads)
+
+    def pad_pose(self, data: mujoco.MjData, pad: Pad) -> tuple[Array, Array]:
+        """A pad carrier's rotation (3, 3) and origin (3,) [m] in the world."""
+        if pad.carrier == "geom":
+            return data.geom_xmat[pad.carrier_id].reshape(3, 3).copy(), data.geom_xpos[
+                pad.carrier_id
+            ].copy()
+        return data.site_xmat[pad.carrier_id].reshape(3, 3).copy(), data.site_xpos[
+            pad.carrier_id
+        ].copy()
+
+    def read(self, data: mujoco.MjData) -> TactileReading:
+        """Every pad's reading now (after a step or ``mj_forward``)."""
+        n = len(self.pads)
+        rows, cols = self.shape
+        depth = np.zeros((n, rows, cols))
+        slip = np.zeros((n, rows, cols, 2))
+        rotations = np.zeros((n, 3, 3))
+        positions = np.zeros((n, 3))
+        truth = self.scene.truth
+        center, bound = np.asarray(truth.center), float(truth.bounding_radius)
+        for k, pad in enumerate(self.pads):
+            rot, t = self.pad_pose(data, pad)
+            rotations[k], positions[k] = rot, t
+            pos, nrm, _ = pad.layout.taxels
+            world = pos @ rot.T + t
+            if self.taxel_model == "mujoco":
+                count = pad.layout.count
+                block = data.sensordata[pad.sensor_adr : pad.sensor_adr + count]
+                depth[k] = np.asarray(block).reshape(rows, cols)
+            else:
+                if np.linalg.norm(t - center) > bound + pad.reach + pad.layout.pitch * max(
+                    rows, cols
+                ):
+                    continue  # nowhere near the object
+                depth[k] = taxel_depths(truth, world, nrm @ rot.T, pad.reach)
+            if np.any(depth[k] > 0):
+                slip[k] = self._slip(data, pad, rot, world, nrm @ rot.T, depth[k] > 0)
+        pressure = self.skin.skin.pressure(depth)
+        readings = self.skin.sensor.apply(pressure, self.pattern, self.rng)
+        return TactileReading(depth, readings, slip, positions, rotations, float(data.time))
+
+    def _slip(self, data: mujoco.MjData, pad: Pad, rot: Array, world: Array, normals: Array,
+              touching: NDArray[np.bool_]) -> Array:  # fmt: skip
+        """Tangential velocities (rows, cols, 2) of the touching taxels in the pad's (u, v)
+        axes [m/s] (the object is static)."""
+        obj = mujoco.mjtObj.mjOBJ_GEOM if pad.carrier == "geom" else mujoco.mjtObj.mjOBJ_SITE
+        mujoco.mj_objectVelocity(self.model, data, obj, pad.carrier_id, self._vel, 0)
+        omega, v0 = self._vel[:3], self._vel[3:]
+        origin = (
+            data.geom_xpos[pad.carrier_id]
+            if pad.carrier == "geom"
+            else data.site_xpos[pad.carrier_id]
+        )
+        v = v0 + np.cross(omega, world - origin)
+        v_t = v - np.sum(v * normals, axis=-1, keepdims=True) * normals
+        e_u, e_v = rot @ pad.layout.e_u, rot @ pad.layout.up
+        out = np.stack([v_t @ e_u, v_t @ e_v], axis=-1)
+        return np.where(touching[..., None], out, 0.0)
+
+    def estimate(self, reading: TactileReading, finger: int) -> TactileContact | None:
+        """The contact finger `finger`'s pad felt in `reading`, or None."""
+        pad = self.pads[finger]
+        sensor = self.skin.sensor
+        return estimate_contact(
+            reading.pressure[finger], pad.layout, reading.pad_rotation[finger],
+            reading.pad_position[finger], self.skin.skin, sensor.noise, sensor.step,
+        )  # fmt: skip
+
+    def sense(self, data: mujoco.MjData, finger: int) -> SensedContact:
+        """Read every pad and estimate `finger`'s contact (a recorded touch)."""
+        reading = self.read(data)
+        return SensedContact(self.estimate(reading, finger), reading)
+
+
+__all__ = [
+    "CALIBRATION_FORCE",
+    "PAD_PREFIX",
+    "Pad",
+    "SENSINGS",
+    "SensedContact",
+    "TAXEL_MODELS",
+    "TactileHand",
+    "TactileReading",
+    "add_mujoco_pads",
+    "default_pad_normal",
+    "pad_layouts",
+    "prepare_skin",
+    "skin_solref",
+]
