@@ -191,6 +191,9 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         pose=args.pose,
         hand=args.hand,
         video=args.video,
+        sensing=args.sensing,
+        skin=args.skin,
+        taxel_model=args.taxel_model,
     )
     if not summary["complete"]:
         sys.stderr.write(
@@ -434,6 +437,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--video", nargs="?", const="mp4", choices=("mp4", "gif"), default=None,
         help="also write exploration.mp4 (default; pip install 'hapticsim[video]') or .gif",
+    )  # fmt: skip
+    p.add_argument(
+        "--sensing", choices=("exact", "tactile"), default="exact",
+        help="exact: MuJoCo's contacts (default); tactile: contacts estimated from a taxel pad "
+        "on every fingertip (writes tactile.npz)",
+    )  # fmt: skip
+    p.add_argument(
+        "--skin", default=None, metavar="PRESET|FILE.toml",
+        help="with --sensing tactile: ideal (default), vision, capacitive or a skin file",
+    )  # fmt: skip
+    p.add_argument(
+        "--taxel-model", default="hapticsim", choices=("hapticsim", "mujoco"),
+        help="with --sensing tactile: hapticsim's own taxel model against the exact solid "
+        "(default) or MuJoCo's <tactile> sensor",
     )  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_explore)

@@ -40,8 +40,9 @@ class Contacts:
     Attributes:
         points: (n, 3) float, contact locations [m].
         normals: (n, 3) float unit vectors or None.
-        extra: further named arrays (e.g. ``points_clean``, ``finger``), each with n rows, and
-            optionally ``free_space`` (:data:`FREE_SPACE_KEY`), (f, 3) with any f.
+        extra: further named arrays (e.g. ``points_clean``, ``finger``), each with n rows,
+            optionally ``free_space`` (:data:`FREE_SPACE_KEY`), (f, 3) with any f, and 0-d
+            arrays of metadata (e.g. ``sensing``, a string).
     """
 
     points: Array
@@ -59,7 +60,10 @@ class Contacts:
             if key == FREE_SPACE_KEY:  # free-space points: any number of rows
                 extra[key] = finite_array(arr, key, (None, 3))
                 continue
-            if arr.ndim == 0 or arr.shape[0] != len(pts):
+            if arr.ndim == 0:  # metadata of the whole file
+                extra[key] = arr
+                continue
+            if arr.shape[0] != len(pts):
                 raise InvalidInputError(
                     f"contacts array `{key}` must have one row per point ({len(pts)}), "
                     f"got shape {arr.shape}"

@@ -13,6 +13,15 @@ output directory:
   hapticsim's hand), ``force`` (n,) [N], ``time`` (n,) [s], ``pattern`` (n,) int (pattern id;
   ``pattern_kind`` gives patch/stripe per id), ``free_space`` (f, 3) [m] the fingertip centres along
   the run near the contacts (free space: ``hapticsim fit --method nML --free-space``);
+  ``sensing`` (``"exact"`` or ``"tactile"``); with tactile sensing (SPEC §11) ``points``/``normals``
+  are the contacts estimated from the taxels (noise added on top only when asked),
+  ``points_exact``/``normals_exact``/``force_exact`` MuJoCo's, ``sigma`` (n,) the estimate's
+  per-coordinate std [m], ``area`` (n,) [m^2] and ``taxels`` (n,) lit taxels;
+- ``tactile.npz`` (tactile sensing, compressed): ``images`` (touches, pads, rows, cols) readings
+  [Pa], ``depth`` the skin's depth [m], ``slip`` (..., 2) [m/s], ``finger`` (touches,),
+  ``pad_position`` (touches, pads, 3) [m] and ``pad_rotation`` (touches, pads, 3, 3) of the pads'
+  carriers, ``taxel_position``/``taxel_normal`` (pads, rows, cols, 3) and ``taxel_area`` in the
+  carriers' frames, ``time`` (touches,) [s] and ``skin`` (the preset as JSON);
 - ``truth.json`` (superquadric) or, for a mesh object, ``truth.stl`` (world frame, metres);
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
@@ -63,6 +72,9 @@ def explore(
     pose: Any = None,
     hand: str | Path = "hapticsim",
     video: str | None = None,
+    sensing: str = "exact",
+    skin: Any = None,
+    taxel_model: str = "hapticsim",
 ) -> dict[str, Any]:
     """Explore an object with the simulated hand, fit, score and write the results.
 
@@ -88,6 +100,12 @@ def explore(
             extra ``hands``) or the path of a TOML hand description (``docs/hands.md``).
         video: also write a video of the exploration, ``"mp4"`` (the optional extra ``video``)
             or ``"gif"``; None: no video.
+        sensing: ``"exact"`` (MuJoCo's contacts, default) or ``"tactile"`` (contacts estimated
+            from a taxel pad on every fingertip; :mod:`hapticsim.sim.tactile`).
+        skin: with tactile sensing, a skin preset (``"ideal"``, default; ``"vision"``,
+            ``"capacitive"``) or a ``.toml`` skin file.
+        taxel_model: with tactile sensing, ``"hapticsim"`` (its own taxel model, default) or
+            ``"mujoco"`` (MuJoCo's ``<tactile>`` sensor).
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
@@ -98,8 +116,9 @@ def explore(
     Raises:
         InvalidInputError: unknown object, strategy or method (the message lists the choices),
             a mesh that is empty, not watertight or of an unknown format, or a bad noise level,
-            seed, scale or pose, an unknown or invalid hand (naming the element), or a video
-            format whose encoder is not installed.
+            seed, scale or pose, an unknown or invalid hand (naming the element), a video
+            format whose encoder is not installed, or an unknown sensing, skin or taxel model
+            (a skin file that does not parse names the key).
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or too few contacts were gathered.
     """
@@ -126,7 +145,15 @@ def explore(
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.video import VideoConfig, check_video_support
 
-    scene_config = SceneConfig(hand=hand)
+    if sensing != "tactile" and (skin is not None or taxel_model != "hapticsim"):
+        raise InvalidInputError(
+            "`skin` and `taxel_model` are for tactile sensing (--sensing tactile), got "
+            f"sensing {sensing!r}"
+        )
+    scene_config = SceneConfig(
+        hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
+        taxel_model=taxel_model,
+    )  # fmt: skip
     video_config = None if video is None else VideoConfig(format=video)
     if video_config is not None:
         check_video_support(video_config)
@@ -204,6 +231,7 @@ def _explore(
             bar.set_postfix_str("encoding the video")
             picture["video"] = video.finish()
         a = run.arrays
+        tactile = scene_config.sensing == "tactile"
         points, normals = add_noise(
             a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
         )
@@ -218,6 +246,9 @@ def _explore(
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
+        accuracy_exact = (
+            contact_accuracy(truth, a["points_exact"], a["normals_exact"]) if tactile else None
+        )
         th = (  # theta needs the EOF of the true superquadric: undefined for a mesh truth
             None
             if is_mesh
@@ -225,10 +256,12 @@ def _explore(
                              normals if uses_normals(method) else None))
         )  # fmt: skip
         truth_file = ("truth.stl", stl_bytes(truth)) if is_mesh else None
+        sensed = f", {scene_config.skin.name} skin" if tactile else ""
         report = exploration_figure_png(
             truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
-            f"{object_name}, {strategy} exploration ({run.count} contacts, sigma_N = {sigma}), "
-            f"{method} fit: epsilon = {quality.epsilon:.3f}",
+            f"{object_name}, {strategy} exploration ({run.count} contacts{sensed}, sigma_N = "
+            f"{sigma}), {method} fit: epsilon = {quality.epsilon:.3f}",
+            tactile=_report_images(run) if tactile else None,
         )  # fmt: skip
     finally:
         bar.close()
@@ -261,15 +294,25 @@ def _explore(
         "patterns": {k: run.pattern_kinds.count(k) for k in ("patch", "stripe")},
     }
     metrics["simulation"] = sim_stats
+    metrics["sensing"] = scene_config.sensing
+    if tactile:
+        metrics["skin"] = scene_config.skin.to_dict()
+        metrics["taxel_model"] = scene_config.taxel_model
+        metrics["contact_accuracy_exact"] = accuracy_exact
+        metrics["tactile"] = _tactile_summary(run)
 
     out.mkdir(parents=True, exist_ok=True)
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
+    if tactile:
+        keys += ("points_exact", "normals_exact", "force_exact", "sigma", "area", "taxels")
     extra = {k: a[k] for k in keys}
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
     extra[FREE_SPACE_KEY] = free_space  # fingertip centres: free space for nML
+    extra["sensing"] = np.array(scene_config.sensing)
+    tactile_file = _tactile_file(run, scene_config.skin) if tactile else None
     with OutputSet():  # all files or none, even on Ctrl-C
         files = _write_outputs(out, points, normals, extra, truth, truth_file, result, metrics,
-                               report, picture, video_config)  # fmt: skip
+                               report, picture, video_config, tactile_file)  # fmt: skip
     return {
         "out_dir": str(out),
         "files": {k: str(v) for k, v in files.items()},
@@ -283,16 +326,65 @@ def _explore(
         **_completeness(run),
         "metrics": quality.to_dict() | {"theta": th},
         "contact_accuracy": accuracy,
+        "sensing": scene_config.sensing,
+        **({"skin": scene_config.skin.name, "unfelt": run.unfelt} if tactile else {}),
         "fit": {"eof": result.eof, "evaluations": result.evaluations, "seconds": result.seconds},
         "simulation": sim_stats,
         "seconds": time.perf_counter() - start,
     }
 
 
+def _tactile_summary(run: Any) -> dict[str, Any]:
+    """What the skin did in a run (metrics.json)."""
+    a = run.arrays
+    ratio = a["force"] / np.maximum(a["force_exact"], 1e-12)
+    return {
+        "unfelt": run.unfelt,
+        "lit_taxels_median": float(np.median(a["taxels"])),
+        "sigma_median": float(np.median(a["sigma"])),
+        "area_median": float(np.median(a["area"])),
+        "force_median": float(np.median(a["force"])),
+        "force_to_mujoco_median": float(np.median(ratio[a["force_exact"] > 0]))
+        if np.any(a["force_exact"] > 0) else None,
+        "pads": int(run.tactile["images"].shape[1]),
+        "grid": list(run.tactile["images"].shape[2:]),
+    }  # fmt: skip
+
+
+def _tactile_file(run: Any, skin: Any) -> bytes:
+    """The compressed ``tactile.npz`` of a run (module docstring)."""
+    import io
+    import json
+
+    tactile = run.explorer.sim.tactile
+    layouts = [p.layout for p in tactile.pads]
+    arrays = dict(run.tactile)
+    arrays["finger"] = run.arrays["finger"]
+    arrays["taxel_position"] = np.stack([lay.taxels[0] for lay in layouts])
+    arrays["taxel_normal"] = np.stack([lay.taxels[1] for lay in layouts])
+    arrays["taxel_area"] = np.stack([lay.taxels[2] for lay in layouts])
+    arrays["carrier"] = np.array([p.carrier for p in tactile.pads])
+    arrays["skin"] = np.array(json.dumps(skin.to_dict()))
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)
+    return buf.getvalue()
+
+
+def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
+    """Pressure images of up to `count` touches spread over a run, each from the pad of the
+    finger that recorded it (for the report picture)."""
+    n = run.count
+    picks = np.unique(np.linspace(0, n - 1, min(count, n)).round().astype(int))
+    finger = run.arrays["finger"]
+    images = run.tactile["images"][picks, finger[picks]]
+    names = run.explorer.scene.hand.finger_names
+    return {"images": images, "labels": [f"#{i + 1} {names[finger[i]]}" for i in picks]}
+
+
 def _write_outputs(
     out: Path, points: Any, normals: Any, extra: dict[str, Any], truth: Any, truth_file: Any,
     result: Any, metrics: dict[str, Any], report: bytes, picture: dict[str, bytes],
-    video_config: Any,
+    video_config: Any, tactile_file: bytes | None = None,
 ) -> dict[str, Path]:  # fmt: skip
     """Write the run's files in `out`; returns them by kind."""
     from hapticsim.data.io import Contacts, write_contacts, write_json
@@ -309,6 +401,8 @@ def _write_outputs(
         "metrics": write_json(out / "metrics.json", metrics),
         "report": write_bytes_atomic(out / "report.png", report),
     }
+    if tactile_file is not None:
+        files["tactile"] = write_bytes_atomic(out / "tactile.npz", tactile_file)
     if "scene" in picture:
         files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
     if "video" in picture:
@@ -318,11 +412,17 @@ def _write_outputs(
 
 
 def _hand_args(scene_config: Any) -> str:
-    """The ``--hand`` option that reproduces the scene's hand ('' for the default hand)."""
+    """The ``--hand`` (and sensing) options that reproduce the scene's hand ('' for the
+    default hand, exact sensing)."""
     hand = getattr(scene_config, "hand", None)
-    if hand is None or hand.name == "hapticsim":
-        return ""
-    return f" --hand {hand.source if hand.source is not None else hand.name}"
+    text = ""
+    if hand is not None and hand.name != "hapticsim":
+        text = f" --hand {hand.source if hand.source is not None else hand.name}"
+    if getattr(scene_config, "sensing", "exact") == "tactile":
+        text += f" --sensing tactile --skin {scene_config.skin.name}"
+        if scene_config.taxel_model != "hapticsim":
+            text += f" --taxel-model {scene_config.taxel_model}"
+    return text
 
 
 def _placement_args(spec: Any) -> str:

@@ -46,9 +46,11 @@ def exploration_figure_png(
     finger: NDArray[np.int64],
     title: str,
     dpi: int = 110,
+    tactile: dict[str, Any] | None = None,
 ) -> bytes:
     """PNG bytes of a two-panel picture: contacts with normal arrows on the truth (left), the
-    estimate over the truth (right). Lengths in millimetres.
+    estimate over the truth (right); with `tactile`, a row of pads' pressure images below.
+    Lengths in millimetres.
 
     Args:
         truth: the true object (a superquadric or a mesh solid).
@@ -58,13 +60,18 @@ def exploration_figure_png(
         finger: (n,) int, finger of each contact (colours).
         title: figure title.
         dpi: resolution.
+        tactile: ``{"images": (k, rows, cols) [Pa], "labels": [k str]}``, the pressure images
+            of k touches (tactile sensing), or None.
     """
     import matplotlib
 
     matplotlib.use("Agg", force=False)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(10, 5))
+    rows = 1 if tactile is None else 2
+    fig = Figure(figsize=(10, 5) if tactile is None else (10, 7.2))
+    grid = fig.add_gridspec(rows, 1, height_ratios=[5] if tactile is None else [5, 1.6])
+    top = grid[0].subgridspec(1, 2)
     pts = np.asarray(points_world) * 1000.0
     nrm = np.asarray(normals_world)
     half = _half_width(truth)
@@ -73,7 +80,7 @@ def exploration_figure_png(
     for k, (panel, show_estimate) in enumerate(
         (("contacts and normals", False), ("estimate (orange) over truth (blue)", True))
     ):
-        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
+        ax = fig.add_subplot(top[0, k], projection="3d")
         _surface(ax, truth, "tab:blue", 0.18 if show_estimate else 0.25)
         if show_estimate and estimate is not None:
             _surface(ax, estimate, "tab:orange", 0.35)
@@ -101,11 +108,34 @@ def exploration_figure_png(
         ax.view_init(elev=22, azim=-50)
         if k == 0:
             ax.legend(loc="upper left", fontsize=7, markerscale=2)
+    if tactile is not None:
+        _pad_row(fig, grid[1], tactile)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
     return buf.getvalue()
+
+
+def _pad_row(fig: Any, cell: Any, tactile: dict[str, Any]) -> None:
+    """The pressure images [kPa] of a few touches side by side, one colour scale."""
+    images = np.asarray(tactile["images"], dtype=np.float64) / 1000.0
+    k = len(images)
+    if k == 0:
+        return
+    row = cell.subgridspec(1, k + 1, width_ratios=[1] * k + [0.08])
+    top = max(float(images.max()), 1e-9)
+    shown = None
+    for i, (image, label) in enumerate(zip(images, tactile["labels"], strict=True)):
+        ax = fig.add_subplot(row[0, i])
+        shown = ax.imshow(image, cmap="inferno", vmin=0.0, vmax=top, interpolation="nearest")
+        ax.set_title(label, fontsize=7)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    cax = fig.add_subplot(row[0, k])
+    bar = fig.colorbar(shown, cax=cax)
+    bar.set_label("pressure [kPa]", fontsize=7)
+    bar.ax.tick_params(labelsize=6)
 
 
 def png_bytes(image: NDArray[np.uint8]) -> bytes:

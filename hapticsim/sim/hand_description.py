@@ -32,7 +32,7 @@ minimal file::
 
 Tactile pads (``hapticsim explore --sensing tactile``; SPEC §9, §11): the optional top-level
 ``[pad]`` table sets the grid every fingertip's pad has (``rows``, ``cols``, ``pitch`` [m];
-default :data:`DEFAULT_PAD_GRID`, 21 x 21 taxels 1.5 mm apart), and a finger's ``pad`` table
+default :data:`DEFAULT_PAD_GRID`, 31 x 31 taxels 1 mm apart), and a finger's ``pad`` table
 where it sits: ``on`` (a geom or site of the fingertip body; default the touching geom),
 ``normal`` (the outward direction at the pad's centre, in that element's frame; default the
 fingertip's pulp, between its pointing and flexion directions), ``up`` (the rows' direction),
@@ -74,9 +74,11 @@ POSTURE_NAMES: tuple[str, ...] = ("tucked", "probe", "sweep")
 ACTUATION_MODES: tuple[str, ...] = ("model", "add")
 #: Default tactile grid of every fingertip pad: (rows, cols, pitch [m]). On an 8 mm fingertip
 #: sphere it reaches 107 deg from the pad's centre along its rows and columns: 99 % of the
-#: contacts of the paper strategy lie within about 100 deg of a finger's mean contact direction
-#: (docs/tactile/README.md).
-DEFAULT_PAD_GRID: tuple[int, int, float] = (21, 21, 0.0015)
+#: contacts of the paper strategy lie within about 100 deg of a finger's mean contact direction.
+#: 1 mm resolves a box's rounded edge (at 1.5 mm an edge lights one row of taxels and the
+#: paper cube's nH epsilon from the estimated contacts was 0.011, at 1 mm 0.0007;
+#: docs/tactile/README.md).
+DEFAULT_PAD_GRID: tuple[int, int, float] = (31, 31, 0.001)
 #: Directory of the shipped descriptions.
 HANDS_DIR: Path = Path(__file__).resolve().parents[1] / "hands"
 

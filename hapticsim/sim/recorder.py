@@ -73,6 +73,13 @@ class Recorder:
             self.sensed.append(sensed)
         return True
 
+    def points(self) -> Array:
+        """(n, 3) float, the recorded contact points [m, world]: the estimated ones with
+        tactile sensing."""
+        if self.sensed:
+            return np.array([s.estimate.point for s in self.sensed]).reshape(-1, 3)
+        return np.array([c.point_world for c in self.contacts], dtype=np.float64).reshape(-1, 3)
+
     def arrays(self, start: int = 0) -> dict[str, np.ndarray]:
         """The contacts as arrays.
 

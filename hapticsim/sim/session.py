@@ -52,6 +52,9 @@ class Exploration:
         stop_reason: why fewer than `requested` were gathered (None when all were).
         free_space: (f, 3) float, fingertip centres along the run [m, world]
             (:class:`~hapticsim.sim.free_space.FreeSpaceTrace`): outside the object.
+        tactile: with tactile sensing, every pad's reading at each contact
+            (:meth:`Recorder.tactile_arrays`), else an empty dict.
+        unfelt: touches the skin did not feel (tactile sensing; not recorded).
     """
 
     truth: Superquadric | MeshSolid
@@ -66,6 +69,8 @@ class Exploration:
     requested: int = 0
     stop_reason: str | None = None
     free_space: np.ndarray | None = None
+    tactile: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    unfelt: int = 0
 
     @property
     def count(self) -> int:
@@ -126,10 +131,13 @@ def run_exploration(
     rough_rng, strategy_rng = gen.spawn(2)
     start = time.perf_counter()
     scene = build_scene(truth, scene_config)
+    # the skin's sensor model draws from a third stream, so exact runs keep theirs
+    tactile_rng = gen.spawn(1)[0] if scene.config.sensing == "tactile" else None
     if rough is None:
         rough = vision_estimate(truth, rough_rng)
     recorder = Recorder(count)
-    explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end)
+    explorer = Explorer(scene, rough, recorder, config, progress, on_pattern_end,
+                        tactile_rng=tactile_rng)  # fmt: skip
     if video is not None:
         video.attach(explorer.sim, recorder)
     trace = FreeSpaceTrace()  # fingertip centres: free space for nML (changes no physics)
@@ -154,6 +162,8 @@ def run_exploration(
         requested=count,
         stop_reason=explorer.stop_reason,
         free_space=trace.points(),
+        tactile=recorder.tactile_arrays(),
+        unfelt=recorder.unfelt,
     )
 
 

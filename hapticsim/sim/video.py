@@ -140,12 +140,13 @@ class ExplorationVideo:
         # shadow maps are 90 % of a frame on a CPU renderer (~0.45 s against 0.05 s at 640 x 480)
         renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False
         if self._recorder is not None and len(self._recorder):
-            points = np.array([c.point_world for c in self._recorder.contacts])
-            add_markers(renderer.scene, points, CONTACT_RGBA)
+            add_markers(renderer.scene, self._recorder.points(), CONTACT_RGBA)
         live = [t.point_world for t in sim.contacts.tips if t is not None and t.force > 0]
         if live:
             add_markers(renderer.scene, np.array(live), LIVE_RGBA, radius=0.002)
         frame = renderer.render()
+        if sim.tactile is not None:  # the pads' pressure images along the bottom edge
+            frame = pad_strip(frame, sim.tactile.read(sim.data).pressure)
         if self._writer is not None:
             self._writer.append_data(frame)
         else:
@@ -194,4 +195,34 @@ class ExplorationVideo:
         self._gif.clear()
 
 
-__all__ = ["ExplorationVideo", "LIVE_RGBA", "VIDEO_FORMATS", "VideoConfig", "check_video_support"]
+def pad_strip(frame: NDArray[np.uint8], images: NDArray[np.float64],
+              full_scale: float = 1.0e5) -> NDArray[np.uint8]:  # fmt: skip
+    """`frame` (h, w, 3) with the pads' pressure images (pads, rows, cols) [Pa] drawn side by
+    side along its bottom edge (a quarter of its height; dark: 0, yellow: `full_scale`)."""
+    out = np.array(frame, copy=True)
+    h, w = out.shape[:2]
+    pads, rows, cols = images.shape
+    size = max(8, h // 4)
+    scale = max(1, size // max(rows, cols))
+    gap = 4
+    x = gap
+    for k in range(pads):
+        value = np.clip(images[k] / full_scale, 0.0, 1.0)
+        tile = np.kron(value, np.ones((scale, scale)))
+        th, tw = tile.shape
+        if x + tw > w or th + gap > h:
+            break
+        rgb = np.stack([255 * np.sqrt(tile), 255 * tile, 40 + 0 * tile], axis=-1)
+        out[h - th - gap : h - gap, x : x + tw] = rgb.astype(np.uint8)
+        x += tw + gap
+    return out
+
+
+__all__ = [
+    "ExplorationVideo",
+    "LIVE_RGBA",
+    "VIDEO_FORMATS",
+    "VideoConfig",
+    "check_video_support",
+    "pad_strip",
+]

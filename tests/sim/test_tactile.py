@@ -106,7 +106,7 @@ def test_every_shipped_hand_description_has_pads_on_its_fingertips() -> None:
     assert len(pads) == 4
     for kind, ident, layout, reach in pads:
         assert kind == "geom" and layout.curved and layout.radius == pytest.approx(0.008)
-        assert layout.shape == (21, 21) and layout.pitch == 0.0015 and reach == layout.radius
+        assert layout.shape == (31, 31) and layout.pitch == 0.001 and reach == layout.radius
         assert ident in scene.hand.tip_finger_of_geom
 
 
@@ -133,8 +133,8 @@ def test_tactile_contacts_are_estimated_from_the_taxels(cube_run) -> None:  # no
 def test_every_pad_is_read_at_every_recorded_contact(cube_run) -> None:  # noqa: ANN001
     t = cube_run.explorer.recorder.tactile_arrays()
     n = cube_run.count
-    assert t["images"].shape == (n, 4, 21, 21) and t["depth"].shape == (n, 4, 21, 21)
-    assert t["slip"].shape == (n, 4, 21, 21, 2) and t["pad_rotation"].shape == (n, 4, 3, 3)
+    assert t["images"].shape == (n, 4, 31, 31) and t["depth"].shape == (n, 4, 31, 31)
+    assert t["slip"].shape == (n, 4, 31, 31, 2) and t["pad_rotation"].shape == (n, 4, 3, 3)
     finger = cube_run.arrays["finger"]
     assert np.all(t["images"][np.arange(n), finger].reshape(n, -1).max(axis=1) > 0)
     np.testing.assert_allclose(t["time"], cube_run.arrays["time"])
@@ -228,4 +228,4 @@ def test_the_gymnasium_robotics_hands_sense_through_their_pads(hand: str) -> Non
     acc = contact_accuracy(run.truth, run.arrays["points_clean"], run.arrays["normals_clean"])
     assert run.count == 30 and acc["distance_median"] < 1e-4 and acc["angle_p95_deg"] < 5.0
     images = run.explorer.recorder.tactile_arrays()["images"]
-    assert images.shape[1:] == (5, 23, 23)
+    assert images.shape[1:] == (5, 33, 33)
