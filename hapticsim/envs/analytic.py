@@ -14,7 +14,13 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
 - a contact where a fingertip would hit the object's support (:class:`~hapticsim.envs.support.
   Support`: by default the thin stand under the object, as in the MuJoCo scene) is unreachable:
   a probe there is ``"blocked"``, a stroke stops there;
-- sensor noise follows SPEC §5 (relative ``sigma_N``; the clean values are kept beside).
+- sensor noise follows SPEC §5 (relative ``sigma_N``; the clean values are kept beside);
+- with tactile sensing (``sensing="tactile"``) each contact is pressed by a rigid fingertip of
+  hapticsim's hand (radius 8 mm) carrying a pad of the same grid (:func:`hapticsim.tactile.press.
+  press`: sunk by the skin's penetration at the probe force, facing along the approach), read
+  through the skin's sensor model and estimated (:func:`hapticsim.tactile.estimate_contact`);
+  the estimates replace the contacts (the ray cast's are kept as ``points_exact``), a contact
+  the pad does not feel is dropped, and the images of every pad are in the result.
 
 The backend is the simulator: it sees the ground truth, the environment's observation does not.
 """
@@ -38,11 +44,17 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.rays import RAY_GRID, REFINE_GRID, raycast, raycast_many
+from hapticsim.tactile import PadLayout, estimate_contact, load_skin
+from hapticsim.tactile.pad import DEFAULT_PAD_GRID
+from hapticsim.tactile.press import press
+from hapticsim.tactile.skin import PROBE_FORCE
 
 Array = NDArray[np.float64]
 
 #: Fingers of the analytic hand (the MuJoCo hand's count when it is available).
 DEFAULT_FINGERS: int = 4
+#: Fingertip radius [m] of the analytic hand's tactile pads (hapticsim's hand's).
+TIP_RADIUS: float = 0.008
 #: Rays from inside a stroke's section that sample its curve.
 _SECTION_RAYS: int = 160
 
@@ -152,6 +164,9 @@ class AnalyticBackend(SupportedBackend):
         stroke_spacing: distance between contacts along a stroke [m].
         touch_seconds: simulated duration of a probe [s]; a stroke adds ``stroke_speed``.
         stroke_speed: fingertip speed along a stroke [m/s].
+        sensing: ``"exact"`` (the ray cast's contacts) or ``"tactile"`` (module docstring).
+        skin: with tactile sensing, the skin (a preset name, a ``.toml`` file or a
+            :class:`~hapticsim.tactile.SkinPreset`).
     """
 
     def __init__(
@@ -162,6 +177,8 @@ class AnalyticBackend(SupportedBackend):
         stroke_spacing: float = 0.005,
         touch_seconds: float = 1.0,
         stroke_speed: float = 0.02,
+        sensing: str = "exact",
+        skin=None,  # noqa: ANN001 - str | Path | SkinPreset
     ) -> None:
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.n_fingers = positive_int(n_fingers, "n_fingers")
@@ -177,6 +194,24 @@ class AnalyticBackend(SupportedBackend):
         self._support: Support | None = None
         self._clock = 0.0
         self._renderer = None
+        if sensing not in ("exact", "tactile"):
+            raise InvalidInputError(f"`sensing` must be exact or tactile, got {sensing!r}")
+        self.sensing = sensing
+        self.skin = load_skin(skin) if sensing == "tactile" else None
+        self.pad: PadLayout | None = None
+        self._pattern = None
+        if self.skin is not None:
+            rows, cols, pitch = DEFAULT_PAD_GRID
+            pad = PadLayout(rows, cols, pitch, TIP_RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])
+            self.pad = pad if self.skin.pitch is None else pad.resampled(self.skin.pitch)
+            self._penetration = self.skin.skin.sphere_penetration(TIP_RADIUS, PROBE_FORCE)
+
+    @property
+    def pad_shape(self) -> tuple[int, int, int]:
+        """(pads, rows, cols) of the readings with tactile sensing: a pad per finger."""
+        if self.pad is None:
+            raise InvalidInputError("the analytic backend has no pads without tactile sensing")
+        return (self.n_fingers, *self.pad.shape)
 
     # ------------------------------------------------------------------ episode
     def reset(
@@ -198,6 +233,8 @@ class AnalyticBackend(SupportedBackend):
         self._rng = rng
         self._clock = 0.0
         self._support = Support.under(shape, self.support_kind)
+        if self.skin is not None:  # the episode's sensor: its gains and dead taxels
+            self._pattern = self.skin.sensor.pattern((self.n_fingers, *self.pad.shape), rng)
         return shape
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
@@ -235,6 +272,9 @@ class AnalyticBackend(SupportedBackend):
         k = len(pts_clean)
         duration = np.arange(k) * self.stroke_spacing / self.stroke_speed
         self._clock += float(duration[-1])
+        if self.skin is not None:
+            return self._felt(touch, pts_clean, nrm_clean, t0 + self.touch_seconds + duration,
+                              start)  # fmt: skip
         if self.noise > 0:
             pts, nrm = add_noise(
                 pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
@@ -252,6 +292,43 @@ class AnalyticBackend(SupportedBackend):
             status="ok",
             seconds=time.perf_counter() - start,
         )
+
+    def _felt(
+        self, touch: Touch, exact: Array, exact_normals: Array, times: Array, start: float
+    ) -> TouchResult:
+        """The touch's contacts as the pad feels them (module docstring)."""
+        skin, pad = self.skin, self.pad
+        assert skin is not None and pad is not None and self._rng is not None
+        rows, cols = pad.shape
+        images, estimates, keep = [], [], []
+        for i, (x, n) in enumerate(zip(exact, exact_normals, strict=True)):
+            depth, rot, core = press(self._truth, x, n, touch.approach, pad, self._penetration)
+            pressure = np.zeros((self.n_fingers, rows, cols))
+            pressure[touch.finger] = skin.skin.pressure(depth)
+            reading = skin.sensor.apply(pressure, self._pattern, self._rng)
+            est = estimate_contact(reading[touch.finger], pad, rot, core, skin.skin,
+                                   skin.sensor.noise, skin.sensor.step)  # fmt: skip
+            if est is not None:
+                images.append(reading.astype(np.float32))
+                estimates.append(est)
+                keep.append(i)
+        if not estimates:
+            return TouchResult.empty("missed", time.perf_counter() - start, "the pad felt nothing")
+        pts_clean = np.array([e.point for e in estimates])
+        nrm_clean = np.array([e.normal for e in estimates])
+        if self.noise > 0:
+            pts, nrm = add_noise(
+                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
+            )
+        else:
+            pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        return TouchResult(
+            points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
+            finger=np.full(len(keep), touch.finger), force=np.array([e.force for e in estimates]),
+            time=times[keep], status="ok", seconds=time.perf_counter() - start,
+            images=np.stack(images), sigma=np.array([e.sigma for e in estimates]),
+            points_exact=exact[keep], normals_exact=exact_normals[keep],
+        )  # fmt: skip
 
     def _stroke(self, first: Array, stroke_angle: float, n_steps: int) -> list[Array]:
         """Contacts after `first` along the planar section of a stroke (see the module doc)."""

@@ -39,6 +39,8 @@ if (
 BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 #: Reward definitions.
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
+#: How contacts are sensed.
+SENSINGS: tuple[str, ...] = ("exact", "tactile")
 #: Mesh resolution (longitudes) of the estimate in the Chamfer distance to a *mesh* truth
 #: (:class:`hapticsim.metrics.mesh_truth.MeshScorer`); its chords add about 1e-4 m.
 CHAMFER_RESOLUTION: int = 48
@@ -110,6 +112,13 @@ class HapticExploreConfig:
             an evenly spread lattice of directions, area-weighted, exact point-to-surface
             distances, RMS error 1.2 % at the default 128).
         width, height: size of rendered pictures [pixels].
+        sensing: ``"exact"`` (the backend's exact contacts) or ``"tactile"``: contacts
+            estimated from taxel pads on the fingertips (the MuJoCo hand's,
+            :mod:`hapticsim.sim.tactile`; on the analytic backend a rigid fingertip pad pressed
+            on the exact surface); the observation stays v0's
+            (``hapticsim/HapticExploreTactile-v0`` adds the taxel images).
+        skin: with tactile sensing, the skin: a preset (``"ideal"``, ``"vision"``,
+            ``"capacitive"``) or a ``.toml`` skin file (stored as the loaded preset).
     """
 
     backend: str = "mujoco"
@@ -132,6 +141,8 @@ class HapticExploreConfig:
     chamfer_samples: int = SCORE_CHAMFER_POINTS
     width: int = 480
     height: int = 360
+    sensing: str = "exact"
+    skin: Any = "ideal"
 
     def __post_init__(self) -> None:
         size = self.camera_size
@@ -183,6 +194,13 @@ class HapticExploreConfig:
             )
         if self.reward == "epsilon" or self.target_epsilon is not None:
             object.__setattr__(self, "compute_metrics", True)
+        if self.sensing not in SENSINGS:
+            raise InvalidInputError(
+                f"`sensing` must be one of {', '.join(SENSINGS)}, got {self.sensing!r}"
+            )
+        from hapticsim.tactile import load_skin
+
+        object.__setattr__(self, "skin", load_skin(self.skin))
 
 
 @dataclass(frozen=True)
@@ -215,11 +233,15 @@ def make_backend(config: HapticExploreConfig) -> TouchBackend:
         from hapticsim.envs.analytic import AnalyticBackend
 
         return AnalyticBackend(
-            noise=config.noise, support=config.support, stroke_spacing=config.stroke_spacing
-        )
+            noise=config.noise, support=config.support, stroke_spacing=config.stroke_spacing,
+            sensing=config.sensing, skin=config.skin,
+        )  # fmt: skip
     from hapticsim.envs.mujoco_backend import MujocoBackend
 
-    return MujocoBackend(noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand)
+    return MujocoBackend(
+        noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand,
+        sensing=config.sensing, skin=config.skin,
+    )  # fmt: skip
 
 
 def encode_fit(estimate: Superquadric | None, origin: Array, scale: float) -> NDArray[np.float32]:
@@ -387,7 +409,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     ## Version history
 
-    - v0: initial version.
+    - v0: initial version; ``sensing="tactile"`` (contacts estimated from taxel pads) added
+      later, the observation unchanged.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
@@ -442,9 +465,12 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def _clear(self) -> None:
         self._points: list[Array] = []
         self._normals: list[Array] = []
-        self._extra: dict[str, list[np.ndarray]] = {
-            k: [] for k in ("points_clean", "normals_clean", "finger", "force", "time", "touch")
-        }
+        keys = ("points_clean", "normals_clean", "finger", "force", "time", "touch")
+        if self.config.sensing == "tactile":
+            keys += ("points_exact", "normals_exact", "sigma")
+        self._extra: dict[str, list[np.ndarray]] = {k: [] for k in keys}
+        #: the pads' readings [Pa] at the last contact (tactile sensing), or None.
+        self._last_images: NDArray[np.float32] | None = None
         self._touches = 0
         self._update = FitUpdate(None, 0.0, "too_few_contacts")
         self._metrics = _NO_FIT_METRICS.copy()
@@ -477,12 +503,15 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def contacts(self):  # noqa: ANN201 - hapticsim.data.io.Contacts
         """All contacts so far as :class:`hapticsim.data.io.Contacts` (world frame), with extra
         arrays ``points_clean``, ``normals_clean``, ``finger``, ``force`` [N], ``time`` [s] and
-        ``touch`` (index of the touch that made each contact)."""
+        ``touch`` (index of the touch that made each contact); with tactile sensing also
+        ``points_exact``, ``normals_exact`` (the true contacts the estimates stand for) and
+        ``sigma`` [m]."""
         from hapticsim.data.io import Contacts
 
         pts, nrm = self._stacked()
+        vectors = ("points_clean", "normals_clean", "points_exact", "normals_exact")
         extra = {
-            k: (np.concatenate(v) if v else np.zeros((0, 3) if "_clean" in k else 0))
+            k: (np.concatenate(v) if v else np.zeros((0, 3) if k in vectors else 0))
             for k, v in self._extra.items()
         }
         return Contacts(points=pts, normals=nrm, extra=extra)
@@ -547,9 +576,12 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if len(result):
             self._points.append(result.points)
             self._normals.append(result.normals)
-            for k in ("points_clean", "normals_clean", "finger", "force", "time"):
-                self._extra[k].append(getattr(result, k))
+            for k in self._extra:
+                if k != "touch":
+                    self._extra[k].append(getattr(result, k))
             self._extra["touch"].append(np.full(len(result), self._touches, np.int64))
+            if result.images is not None:
+                self._last_images = result.images[-1]
         self._touches += 1
 
         pts, nrm = self._stacked()

@@ -65,6 +65,10 @@ class MujocoBackend(SupportedBackend):
         hand: the hand: a shipped name (``"hapticsim"``, ``"shadow"``, ``"adroit"``), a TOML
             description path or a :class:`~hapticsim.sim.hand_description.HandDescription`
             (default: the scene configuration's, hapticsim's own four-fingered hand).
+        sensing: ``"exact"`` (MuJoCo's contacts) or ``"tactile"`` (estimated from the hand's
+            taxel pads, :mod:`hapticsim.sim.tactile`); None: the scene configuration's.
+        skin: with tactile sensing, the skin (a preset name, a ``.toml`` file or a
+            :class:`~hapticsim.tactile.SkinPreset`); None: the scene configuration's.
 
     Raises:
         InvalidInputError: an unknown or invalid hand (the message names the problem).
@@ -76,6 +80,8 @@ class MujocoBackend(SupportedBackend):
         stroke_spacing: float = 0.005,
         scene_config=None,  # noqa: ANN001 - hapticsim.sim.scene.SceneConfig
         hand=None,  # noqa: ANN001 - str | Path | HandDescription
+        sensing: str | None = None,
+        skin=None,  # noqa: ANN001 - str | Path | SkinPreset
     ) -> None:
         from dataclasses import replace
 
@@ -86,6 +92,10 @@ class MujocoBackend(SupportedBackend):
         config = SceneConfig() if scene_config is None else scene_config
         if hand is not None:
             config = replace(config, hand=hand)
+        if sensing is not None:
+            config = replace(config, sensing=sensing)
+        if skin is not None:
+            config = replace(config, skin=skin)
         self.scene_config = config
         #: number of fingers of the hand (action component 4 selects one; 0 is the thumb).
         self.n_fingers = len(config.hand.fingers)
@@ -100,6 +110,21 @@ class MujocoBackend(SupportedBackend):
         self._support: Support | None = None
         self._renderer = None
         self._render_model = None
+
+    @property
+    def pad_shape(self) -> tuple[int, int, int]:
+        """(pads, rows, cols) of the hand's readings with tactile sensing: a pad per finger,
+        the hand's grid laid out at the skin's own pitch where it has one."""
+        from hapticsim.tactile import PadLayout
+
+        config = self.scene_config
+        if config.sensing != "tactile":
+            raise InvalidInputError("the hand has no pads without tactile sensing")
+        rows, cols, pitch = config.hand.pad_grid
+        grid = PadLayout(rows, cols, pitch, None, [0, 0, 1], [0, 1, 0], [0, 0, 0])
+        if config.skin.pitch is not None:
+            grid = grid.resampled(config.skin.pitch)
+        return (self.n_fingers, *grid.shape)
 
     # ------------------------------------------------------------------ episode
     def reset(
@@ -130,9 +155,15 @@ class MujocoBackend(SupportedBackend):
         if rough is None:
             rough = vision_estimate(shape, rng)
         planning = self._planning.scene(rough.shape, planning_config(scene.config))
+        # the skin's sensor draws from a stream of its own (exact sensing draws nothing here)
+        tactile_rng = (
+            np.random.default_rng(int(rng.integers(2**63)))
+            if scene.config.sensing == "tactile" else None
+        )  # fmt: skip
         self._explorer = Explorer(
-            scene, rough, Recorder(None), ExplorerConfig(), planning_scene=planning
-        )
+            scene, rough, Recorder(None), ExplorerConfig(), planning_scene=planning,
+            tactile_rng=tactile_rng,
+        )  # fmt: skip
         stand = scene.stand_geom_id
         foot = scene.model.geom_pos[stand].copy()
         foot[2] = scene.model.geom_pos[stand][2] + scene.model.geom_size[stand][1] - 0.002
@@ -188,10 +219,16 @@ class MujocoBackend(SupportedBackend):
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        tactile = {}
+        if ex.recorder.tactile:
+            tactile = dict(
+                images=ex.recorder.tactile_arrays(before)["images"], sigma=new["sigma"],
+                points_exact=new["points_exact"], normals_exact=new["normals_exact"],
+            )  # fmt: skip
         return TouchResult(
             points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
             finger=new["finger"], force=new["force"], time=new["time"],
-            status="ok", seconds=seconds, message=message,
+            status="ok", seconds=seconds, message=message, **tactile,
         )  # fmt: skip
 
     def _probe(self, touch: Touch, aim: Array) -> None:

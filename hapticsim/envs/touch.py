@@ -29,7 +29,7 @@ A backend (:class:`TouchBackend`) executes touches: the analytic ray caster
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
@@ -190,6 +190,16 @@ class TouchResult:
             ``"blocked"`` (the table or the hand's reach prevented it), ``"failed"``.
         seconds: wall-clock time the backend took [s].
         message: details for statuses other than ``"ok"``.
+        images: with tactile sensing, (k, pads, rows, cols) float32, every pad's reading [Pa]
+            at each contact; else None.
+        sigma: with tactile sensing, (k,) float, each estimated contact's per-coordinate std
+            [m]; else None.
+        points_exact: with tactile sensing, (k, 3) float, the true contacts [m] the estimates
+            stand for (MuJoCo's, or the ray cast's); else None.
+        normals_exact: the same for the normals.
+
+    With tactile sensing ``points_clean``/``normals_clean`` are the contacts estimated from the
+    taxels (before SPEC §5 noise) and ``force`` the skin's.
     """
 
     points: Array
@@ -202,7 +212,10 @@ class TouchResult:
     status: str = "ok"
     seconds: float = 0.0
     message: str = ""
-    extra: dict[str, Any] = field(default_factory=dict)
+    images: NDArray[np.float32] | None = None
+    sigma: Array | None = None
+    points_exact: Array | None = None
+    normals_exact: Array | None = None
 
     def __post_init__(self) -> None:
         if self.status not in TOUCH_STATUSES:
@@ -220,6 +233,12 @@ class TouchResult:
             if arr.shape[0] != n:
                 raise InvalidInputError(f"`{name}` must have {n} entries, got {arr.shape[0]}")
             object.__setattr__(self, name, arr)
+        for name in ("images", "sigma", "points_exact", "normals_exact"):
+            value = getattr(self, name)
+            if value is not None and np.asarray(value).shape[0] != n:
+                raise InvalidInputError(
+                    f"`{name}` must have {n} rows, got {np.asarray(value).shape[0]}"
+                )
 
     def __len__(self) -> int:
         return int(self.points.shape[0])

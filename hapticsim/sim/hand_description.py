@@ -62,6 +62,7 @@ import mujoco
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim.models import models_dir
+from hapticsim.tactile.pad import DEFAULT_PAD_GRID
 
 #: Names of the shipped hand descriptions (``hapticsim/hands/<name>.toml``).
 HAND_NAMES: tuple[str, ...] = ("hapticsim", "shadow", "adroit")
@@ -72,13 +73,6 @@ DEFAULT_HAND: str = "hapticsim"
 POSTURE_NAMES: tuple[str, ...] = ("tucked", "probe", "sweep")
 #: Actuation modes.
 ACTUATION_MODES: tuple[str, ...] = ("model", "add")
-#: Default tactile grid of every fingertip pad: (rows, cols, pitch [m]). On an 8 mm fingertip
-#: sphere it reaches 107 deg from the pad's centre along its rows and columns: 99 % of the
-#: contacts of the paper strategy lie within about 100 deg of a finger's mean contact direction.
-#: 1 mm resolves a box's rounded edge (at 1.5 mm an edge lights one row of taxels and the
-#: paper cube's nH epsilon from the estimated contacts was 0.011, at 1 mm 0.0007;
-#: docs/tactile/README.md).
-DEFAULT_PAD_GRID: tuple[int, int, float] = (31, 31, 0.001)
 #: Directory of the shipped descriptions.
 HANDS_DIR: Path = Path(__file__).resolve().parents[1] / "hands"
 

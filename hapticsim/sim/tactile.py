@@ -11,7 +11,7 @@ unless the description says otherwise (:func:`default_pad_normal`).
 true surface (margin and gap 0; the exact-sensing hand reports contacts within a 1 mm margin and
 pushes from there, so its fingertip never sinks in) and are as soft as the skin. MuJoCo's soft
 contact is linear in the penetration, the skin's law (:meth:`SkinModel.sphere_force`) quadratic:
-the time constant :func:`skin_solref` makes them agree at :data:`CALIBRATION_FORCE`, the force
+the time constant :func:`skin_solref` makes them agree at :data:`PROBE_FORCE`, the force
 of a recorded probe (measured: ``docs/tactile/README.md``).
 
 **Readings** (:meth:`TactileHand.read`): per pad, the depth of every taxel inside the object
@@ -49,6 +49,7 @@ from hapticsim.tactile import (
     taxel_depths,
 )
 from hapticsim.tactile.pad import PadError, default_up
+from hapticsim.tactile.skin import PROBE_FORCE
 
 Array = NDArray[np.float64]
 
@@ -56,9 +57,6 @@ Array = NDArray[np.float64]
 TAXEL_MODELS: tuple[str, ...] = ("hapticsim", "mujoco")
 #: Ways of sensing contacts: MuJoCo's exact contact, or estimated from the taxels.
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
-#: Normal force [N] at which the skin's contact softness matches its elastic law: the probe's
-#: recording threshold (:class:`~hapticsim.sim.controllers.ProbeConfig`).
-CALIBRATION_FORCE: float = 0.5
 #: Effective mass [kg] of a fingertip against the object, which turns MuJoCo's time constant
 #: into a static stiffness (``20 m / tau^2`` at MuJoCo's default impedance): a 20 g tip
 #: measured 1000 N/m at tau = 0.02 s (``docs/tactile/README.md``).
@@ -69,7 +67,7 @@ PAD_PREFIX: str = "hand/pad/"
 
 def skin_solref(skin: SkinPreset, radius: float) -> tuple[float, float]:
     """MuJoCo ``solref`` (time constant [s], damping ratio 1) of a fingertip of `radius` [m]
-    whose contact carries :data:`CALIBRATION_FORCE` at the penetration the skin's elastic law
+    whose contact carries :data:`PROBE_FORCE` at the penetration the skin's elastic law
     gives it.
 
     The skin's secant stiffness there is ``F / delta(F) = sqrt(pi E R F / h)``; MuJoCo's soft
@@ -78,7 +76,7 @@ def skin_solref(skin: SkinPreset, radius: float) -> tuple[float, float]:
     (:data:`FINGERTIP_MASS`), hence ``tau = sqrt(20 m / k)``, at least 2 ms (twice the time
     step).
     """
-    k = np.sqrt(np.pi * skin.skin.stiffness * radius * CALIBRATION_FORCE)
+    k = np.sqrt(np.pi * skin.skin.stiffness * radius * PROBE_FORCE)
     return (max(float(np.sqrt(20.0 * FINGERTIP_MASS / k)), 2e-3), 1.0)
 
 
@@ -402,7 +400,6 @@ class TactileHand:
 
 
 __all__ = [
-    "CALIBRATION_FORCE",
     "PAD_PREFIX",
     "Pad",
     "SENSINGS",

@@ -38,6 +38,12 @@ Array = NDArray[np.float64]
 MAX_PAD_ANGLE: float = 0.95 * np.pi
 #: Largest number of taxels in one pad (rows * cols).
 MAX_TAXELS: int = 65_536
+#: Default grid of a fingertip pad: (rows, cols, pitch [m]). On an 8 mm fingertip sphere it
+#: reaches 107 deg from the pad's centre along its rows and columns: 99 % of the contacts of the
+#: paper strategy lie within about 100 deg of a finger's mean contact direction. 1 mm resolves a
+#: box's rounded edge (at 1.5 mm an edge lights one row of taxels and the paper cube's nH
+#: epsilon from the estimated contacts was 0.011, at 1 mm 0.0007; docs/tactile/README.md).
+DEFAULT_PAD_GRID: tuple[int, int, float] = (31, 31, 0.001)
 
 
 class PadError(InvalidInputError):
@@ -206,4 +212,11 @@ def default_up(normal: Array) -> Array:
     )
 
 
-__all__ = ["MAX_PAD_ANGLE", "MAX_TAXELS", "PadError", "PadLayout", "default_up"]
+__all__ = [
+    "DEFAULT_PAD_GRID",
+    "MAX_PAD_ANGLE",
+    "MAX_TAXELS",
+    "PadError",
+    "PadLayout",
+    "default_up",
+]

@@ -33,6 +33,12 @@ from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
 
+#: Normal force [N] a fingertip presses with to record a probe (the probe's threshold,
+#: :class:`~hapticsim.sim.controllers.ProbeConfig`): the tactile hand's contact softness matches
+#: the skin's law there, and the analytic backend's rigid pad sinks in by the skin's penetration
+#: at it.
+PROBE_FORCE: float = 0.5
+
 
 @dataclass(frozen=True)
 class SkinModel:
@@ -243,4 +249,11 @@ class SkinPreset:
         }  # fmt: skip
 
 
-__all__ = ["FixedPattern", "SensorModel", "SkinModel", "SkinPreset", "gaussian_blur"]
+__all__ = [
+    "FixedPattern",
+    "PROBE_FORCE",
+    "SensorModel",
+    "SkinModel",
+    "SkinPreset",
+    "gaussian_blur",
+]
