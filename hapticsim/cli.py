@@ -148,10 +148,20 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         check_output_path(args.out)  # before the fit, not after it
     contacts = read_contacts(args.contacts)
     extra: dict = {}
-    if args.noise is not None or args.free_space:
+    if args.noise is not None or args.free_space or args.contact_sigma:
         if args.method != "nML":
-            raise InvalidInputError("--noise and --free-space are for --method nML only")
+            raise InvalidInputError(
+                "--noise, --free-space and --contact-sigma are for --method nML only"
+            )
         extra["noise"] = args.noise
+    if args.contact_sigma:
+        if "sigma" not in contacts.extra:
+            raise InvalidInputError(
+                f"{args.contacts} has no `sigma` array for --contact-sigma (explore "
+                "--sensing tactile writes one; found: "
+                f"{sorted(contacts.extra) or 'nothing'})"
+            )
+        extra["sigma"] = contacts.extra["sigma"]
     if args.free_space:
         if FREE_SPACE_KEY not in contacts.extra:
             raise InvalidInputError(
@@ -388,6 +398,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--free-space", action="store_true",
         help="nML: keep the solid out of the file's `free_space` points (where the fingertip was)",
+    )  # fmt: skip
+    p.add_argument(
+        "--contact-sigma", action="store_true",
+        help="nML: weigh each contact by the file's `sigma` (its standard deviation [m], as "
+        "explore --sensing tactile writes it)",
     )  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(

@@ -86,7 +86,8 @@ def explore(
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
         method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``, or ``nML`` (which also keeps
             the solid :data:`FREE_MARGIN` fingertip radii away from the fingertip centres along
-            the run, the contacts file's ``free_space``).
+            the run, the contacts file's ``free_space``, and with tactile sensing weighs each
+            contact by its estimate's ``sigma``).
         seed: seed of everything random (rough object, strategy, noise, fit, score).
         out_dir: output directory (default ``runs/<object>-<strategy>-seed<seed>``).
         render: also write ``scene.png`` from MuJoCo's offscreen renderer.
@@ -240,9 +241,11 @@ def _explore(
         # the smallest fingertip radius (docs/nml/README.md: free space).
         free_space = near_contacts(run.free_space, a["points_clean"])
         radius = min(f.tip_radius for f in run.explorer.scene.hand.description.fingers)
-        free = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
+        ml = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
+        if tactile:  # each estimate weighs in by its own uncertainty
+            ml["sigma"] = a["sigma"]
         result = fit(points, normals, method=method, rng=fit_seed,
-                     **(free if method == "nML" else {}))  # fmt: skip
+                     **(ml if method == "nML" else {}))  # fmt: skip
         bar.set_postfix_str("scoring")
         quality = score(result.superquadric, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])

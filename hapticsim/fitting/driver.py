@@ -21,6 +21,7 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_vectors
 from hapticsim.fitting.least_squares import least_squares_run
+from hapticsim.fitting.likelihood import contact_weights
 from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, HYBRID_METHODS, uses_normals
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.objective import Objective
@@ -63,6 +64,7 @@ def fit(
     noise: float | None = None,
     free: Any | None = None,
     options: MLOptions | None = None,
+    sigma: Any | None = None,
 ) -> FitResult:
     """Fit a superquadric to contact points (and normals) with the paper's methods or nML.
 
@@ -90,6 +92,9 @@ def fit(
             been (its centre at the contacts, its approach path), which must lie outside the
             solid; None for none.
         options: nML only: its settings (default :class:`~hapticsim.fitting.ml.MLOptions`).
+        sigma: nML only: (n,) float, each contact's standard deviation per coordinate [m], > 0
+            (a tactile skin's estimate, ``contacts.npz``'s ``sigma``): the contacts' relative
+            weights (:func:`~hapticsim.fitting.likelihood.contact_weights`); None: all alike.
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -112,14 +117,21 @@ def fit(
     if distance not in DISTANCES:
         raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
     ml = method == "nML"
-    if not ml and (noise is not None or free is not None or options is not None):
+    if not ml and (noise is not None or free is not None or options is not None
+                   or sigma is not None):  # fmt: skip
         raise InvalidInputError(
-            f"`noise`, `free` and `options` are for method nML only, got method {method}"
+            f"`noise`, `free`, `options` and `sigma` are for method nML only, got method {method}"
         )
-    sigma = None if noise is None else finite_float(noise, "noise", low=0.0)
+    noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
     if options is not None and not isinstance(options, MLOptions):
         raise InvalidInputError(f"`options` must be MLOptions, got {type(options).__name__}")
+    multipliers = None
+    if sigma is not None:
+        contact_sigma = finite_array(sigma, "sigma", (len(pts),))
+        if np.any(contact_sigma <= 0):
+            raise InvalidInputError("`sigma` must be > 0 for every contact [m]")
+        multipliers = contact_weights(contact_sigma)
     _check_spread(pts)
     spec = distance == "untapered" and not ml
     if not spec and n_evals < 2:
@@ -130,8 +142,10 @@ def fit(
     data_normals = nrm if uses_normals(method) else None
     run = None
     if ml:
-        objective = ml_objective(pts, data_normals, n_evals - 1, sigma, free_pts, options)
-        run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, sigma, options)
+        objective = ml_objective(pts, data_normals, n_evals - 1, noise_level, free_pts, options,
+                                 multipliers)  # fmt: skip
+        run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, noise_level, options,
+                        multipliers)  # fmt: skip
         status = run.status
     elif method in HYBRID_METHODS:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)

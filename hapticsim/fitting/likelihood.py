@@ -25,6 +25,14 @@ the negative log-likelihood of a surface is, up to constants, half the sum of sq
 minimiser at every noise level; sigma_N sets how much the priors, the robust threshold and the
 free space count. When it is not given it is estimated from a fit's residuals
 (:func:`estimate_noise`).
+
+Contacts of different reliability (a tactile skin's estimates, each with its own standard
+deviation ``sigma_i``, :mod:`hapticsim.tactile.estimate`) weigh in by their multipliers
+``m_i = median(sigma) / sigma_i`` (:func:`contact_weights`, clipped to
+[1 / :data:`WEIGHT_RANGE`, :data:`WEIGHT_RANGE`]): contact i's distance and normal residuals are
+scaled by ``m_i``, as if its noise were ``sigma_p / m_i``. The noise level sigma_N is still
+estimated (from the scaled distances), so the ``sigma_i`` set the contacts' relative weights,
+not the overall level, and a skin's miscalibrated uncertainty cannot make the fit overconfident.
 """
 
 from __future__ import annotations
@@ -42,6 +50,8 @@ Array = NDArray[np.float64]
 
 #: Share of the largest |distances| the noise estimate leaves out.
 TRIM: float = 0.1
+#: Largest ratio of a contact's weight multiplier to the median's, either way.
+WEIGHT_RANGE: float = 10.0
 #: ``E[x^2 | |x| < z]`` for a standard normal x and ``P(|x| < z) = 1 - TRIM``:
 #: ``1 - 2 z phi(z) / (1 - TRIM)`` with z = 1.6449.
 TRIM_FACTOR: float = 0.6230
@@ -59,6 +69,8 @@ class Likelihood:
         taper_prior: std tau_t of the Gaussian prior on each taper, > 0, or None.
         eps_prior: ``(eps_0, tau_e)`` of the Gaussian prior on each shape exponent, or None.
         free_margin: how far outside the solid [m] free-space points must lie (0: outside).
+        multipliers: (n,) float, each contact's weight multiplier (:func:`contact_weights`), or
+            None (all 1).
         normal_factor: ``sigma_n = normal_factor * noise``, > 0. The sensor's normal noise is
             sigma_N (factor 1), but the model normal is taken at the *measured* point: on a
             surface of curvature kappa the point noise moves it by ``kappa sigma_p`` per
@@ -73,6 +85,7 @@ class Likelihood:
     eps_prior: tuple[float, float] | None = None
     free_margin: float = 0.0
     normal_factor: float = 1.0
+    multipliers: Array | None = None
 
     def __post_init__(self) -> None:
         for name in ("noise", "length", "normal_factor"):
@@ -90,6 +103,10 @@ class Likelihood:
             )
         if not np.isfinite(self.free_margin):
             raise InvalidInputError(f"`free_margin` must be finite, got {self.free_margin!r}")
+        if self.multipliers is not None:
+            m = np.asarray(self.multipliers, dtype=np.float64)
+            if m.ndim != 1 or not np.all(np.isfinite(m)) or np.any(m <= 0):
+                raise InvalidInputError("`multipliers` must be (n,) finite and > 0")
 
     @property
     def point_sigma(self) -> float:
@@ -97,7 +114,8 @@ class Likelihood:
         return self.noise * self.length
 
     def settings(self) -> Array:
-        """The (8,) settings array of the compiled ML residuals (``_eof_compiled.ML_*``)."""
+        """The (8,) settings array of the compiled ML residuals (``_eof_compiled.ML_*``), with
+        the per-contact multipliers after them ((8 + n,)) when there are any."""
         out = np.zeros(kernel.ML_SETTINGS)
         out[kernel.ML_POINT_WEIGHT] = 1.0 / self.point_sigma
         out[kernel.ML_NORMAL_WEIGHT] = 1.0 / (self.normal_factor * self.noise)
@@ -109,7 +127,17 @@ class Likelihood:
             out[kernel.ML_EPS_WEIGHT] = 1.0 / self.eps_prior[1]
         out[kernel.ML_FREE_WEIGHT] = 1.0 / self.point_sigma
         out[kernel.ML_FREE_MARGIN] = self.free_margin
+        if self.multipliers is not None:
+            out = np.concatenate([out, np.asarray(self.multipliers, dtype=np.float64)])
         return out
+
+
+def contact_weights(sigma: Array) -> Array:
+    """Weight multipliers (n,) of contacts with standard deviations `sigma` (n,) [m]:
+    ``median(sigma) / sigma_i``, clipped to [1 / WEIGHT_RANGE, WEIGHT_RANGE] (module
+    docstring)."""
+    s = np.asarray(sigma, dtype=np.float64)
+    return np.clip(np.median(s) / s, 1.0 / WEIGHT_RANGE, WEIGHT_RANGE)
 
 
 def contact_distances(contacts: ContactSet, vector: Array) -> Array:
@@ -120,7 +148,9 @@ def contact_distances(contacts: ContactSet, vector: Array) -> Array:
     return contacts.problem_residuals(problem, vector)[0, : contacts.count]
 
 
-def estimate_noise(contacts: ContactSet, vector: Array, length: float) -> float:
+def estimate_noise(
+    contacts: ContactSet, vector: Array, length: float, multipliers: Array | None = None
+) -> float:
     """The relative noise level sigma_N estimated from a fit's residuals.
 
     From the distances alone, by a trimmed root mean square: with the :data:`TRIM` share of the
@@ -138,10 +168,23 @@ def estimate_noise(contacts: ContactSet, vector: Array, length: float) -> float:
         contacts: the contacts.
         vector: (13,) the fit.
         length: L [m], the fit's mean semi-axis (SPEC §5's point-noise scale).
+        multipliers: (n,) per-contact weight multipliers (the distances are scaled by them:
+            the noise level of a contact of multiplier 1), or None.
     """
-    d = np.sort(np.abs(contact_distances(contacts, vector)))
+    d = contact_distances(contacts, vector)
+    if multipliers is not None:
+        d = d * np.asarray(multipliers, dtype=np.float64)
+    d = np.sort(np.abs(d))
     kept = d[: max(1, int(round((1.0 - TRIM) * len(d))))]
     return float(np.sqrt(np.mean(kept**2) / TRIM_FACTOR) / length)
 
 
-__all__ = ["TRIM", "TRIM_FACTOR", "Likelihood", "contact_distances", "estimate_noise"]
+__all__ = [
+    "TRIM",
+    "TRIM_FACTOR",
+    "WEIGHT_RANGE",
+    "Likelihood",
+    "contact_distances",
+    "contact_weights",
+    "estimate_noise",
+]

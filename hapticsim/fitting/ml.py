@@ -116,12 +116,15 @@ class MLOptions:
             )
         self.likelihood(0.1, 1.0)  # validates robust, the priors and the margin
 
-    def likelihood(self, noise: float, length: float) -> Likelihood:
-        """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale."""
+    def likelihood(
+        self, noise: float, length: float, multipliers: Array | None = None
+    ) -> Likelihood:
+        """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale
+        (and per-contact weight multipliers)."""
         return Likelihood(
             noise=max(noise, self.noise_floor), length=length, robust=self.robust,
             taper_prior=self.taper_prior, eps_prior=self.eps_prior, free_margin=self.free_margin,
-            normal_factor=self.normal_factor,
+            normal_factor=self.normal_factor, multipliers=multipliers,
         )  # fmt: skip
 
 
@@ -148,6 +151,7 @@ def ml_search(
     rng: np.random.Generator,
     noise: float | None,
     options: MLOptions | None = None,
+    multipliers: Array | None = None,
 ) -> MLRun:
     """Minimise the ML objective within the objective's budget (module docstring).
 
@@ -159,6 +163,8 @@ def ml_search(
         rng: the generator of every random choice.
         noise: the known sigma_N, or None to estimate it.
         options: settings (default :class:`MLOptions`).
+        multipliers: (n,) per-contact weight multipliers
+            (:func:`~hapticsim.fitting.likelihood.contact_weights`), or None.
     """
     opt = MLOptions() if options is None else options
     if not objective.ml:
@@ -182,8 +188,8 @@ def ml_search(
         best = objective.best_vector
         length = float(np.mean(best[SLICE_A]))
         if not given:
-            sigma = estimate_noise(objective.contacts, best, length)
-        objective.reweight(opt.likelihood(sigma, length).settings())
+            sigma = estimate_noise(objective.contacts, best, length, multipliers)
+        objective.reweight(opt.likelihood(sigma, length, multipliers).settings())
         status = least_squares_run(objective, best).status
     return MLRun(status=status, noise=max(sigma, opt.noise_floor), estimated=not given,
                  length=length)  # fmt: skip
@@ -220,14 +226,16 @@ def ml_objective(
     noise: float | None,
     free: Array | None,
     options: MLOptions | None = None,
+    multipliers: Array | None = None,
 ) -> Objective:
     """The :class:`~hapticsim.fitting.objective.Objective` nML starts with: ML weights at the
-    given (or assumed) noise and the data-size length scale, tapered distance."""
+    given (or assumed) noise and the data-size length scale (and per-contact multipliers),
+    tapered distance."""
     opt = MLOptions() if options is None else options
     probe = Objective(points, normals, 0.0, 1, "tapered")
     length = probe.bounds.size / np.sqrt(3.0)
     sigma = opt.initial_noise if noise is None else noise
-    settings = opt.likelihood(sigma, length).settings()
+    settings = opt.likelihood(sigma, length, multipliers).settings()
     return Objective(points, normals, 0.0, budget, "tapered", settings=settings, free=free)
 
 

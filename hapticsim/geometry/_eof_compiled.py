@@ -513,6 +513,8 @@ ML_POINT_WEIGHT, ML_NORMAL_WEIGHT, ML_ROBUST = 0, 1, 2
 ML_TAPER_WEIGHT, ML_EPS_CENTER, ML_EPS_WEIGHT = 3, 4, 5
 ML_FREE_WEIGHT, ML_FREE_MARGIN = 6, 7
 ML_SETTINGS = 8
+#: With per-contact weights the settings array holds, after its ML_SETTINGS globals, one
+#: multiplier per contact of the contact's whole residual block (distance and normal).
 #: Prior residuals appended after the contacts: tx, ty, eps1, eps2.
 ML_PRIORS = 4
 
@@ -631,7 +633,8 @@ def ml_residuals_posed(
 
     Args:
         points, normals, with_normals, a, eps, taper, rot, center: as :func:`residuals_posed`.
-        settings: (:data:`ML_SETTINGS`,) float, see the ``ML_*`` indices.
+        settings: (:data:`ML_SETTINGS`,) float, see the ``ML_*`` indices, optionally followed
+            by n per-contact multipliers of each contact's residual block (n + ML_SETTINGS,).
         free: (3, f) float, free-space points [m, world] (f may be 0).
         out: (P, :func:`ml_residual_count`) float.
         tally: (1,) int64, incremented by P evaluations.
@@ -644,6 +647,7 @@ def ml_residuals_posed(
     wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
     px_w, py_w, pz_w = points[0], points[1], points[2]
     nx_w, ny_w, nz_w = normals[0], normals[1], normals[2]
+    per_contact = settings.shape[0] > ML_SETTINGS
     for b in range(a.shape[0]):
         a1, a2, a3 = a[b, 0], a[b, 1], a[b, 2]
         e1, e2 = eps[b, 0], eps[b, 1]
@@ -656,6 +660,9 @@ def ml_residuals_posed(
                 bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)[3:]
                 mx, my, mz = _rotate_to_body(nx_w[i], ny_w[i], nz_w[i], f)
                 d, ex, ey, ez = ml_contact(bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty)
+                if per_contact:
+                    m = settings[ML_SETTINGS + i]
+                    d, ex, ey, ez = m * d, m * ex, m * ey, m * ez
                 rd, rx, ry, rz = wp * d, wn * ex, wn * ey, wn * ez
                 w = robust_weight(rd * rd + rx * rx + ry * ry + rz * rz, c)[0]
                 o_d[i], o_x[i], o_y[i], o_z[i] = w * rd, w * rx, w * ry, w * rz
@@ -664,6 +671,8 @@ def ml_residuals_posed(
             for i in range(n):
                 bx, by, bz = _to_body(px_w[i], py_w[i], pz_w[i], f)[3:]
                 d = ml_contact(bx, by, bz, 0.0, 0.0, 0.0, a1, a2, a3, e1, e2, tx, ty)[0]
+                if per_contact:
+                    d = settings[ML_SETTINGS + i] * d
                 rd = wp * d
                 o_d[i] = robust_weight(rd * rd, c)[0] * rd
         base = k * n
@@ -896,7 +905,11 @@ def ml_jacobian_vector(
     wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
     f, rm, jm = _jacobian_frame(x)
     a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
+    per_contact = settings.shape[0] > ML_SETTINGS
+    wp0, wn0 = wp, wn
     for i in range(n):
+        if per_contact:  # this contact's block scaled: its weights times its multiplier
+            wp, wn = wp0 * settings[ML_SETTINGS + i], wn0 * settings[ML_SETTINGS + i]
         d0, d1, d2, bx, by, bz = _to_body(points[0, i], points[1, i], points[2, i], f)
         m0 = m1 = m2 = mx = my = mz = 0.0
         if with_normals:

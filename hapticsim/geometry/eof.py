@@ -77,7 +77,8 @@ class ContactSet:
         Args:
             lam, tapered: the paper EOF's lambda and distance mode.
             settings: None for the paper's EOF residuals; else the (8,) settings of the
-                maximum-likelihood residuals (``_eof_compiled.ML_*`` layout).
+                maximum-likelihood residuals (``_eof_compiled.ML_*`` layout), optionally
+                followed by one weight multiplier per contact ((8 + n,)).
             free: (f, 3) float free-space points [m, world] of the ML residuals, or None.
 
         Returns:
@@ -89,8 +90,11 @@ class ContactSet:
             return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
                     kernel.MODEL_EOF, None, np.ascontiguousarray(pts))  # fmt: skip
         ml = np.asarray(settings, np.float64)
-        if ml.shape != (kernel.ML_SETTINGS,):
-            raise InvalidInputError(f"`settings` must be ({kernel.ML_SETTINGS},), got {ml.shape}")
+        if ml.shape not in ((kernel.ML_SETTINGS,), (kernel.ML_SETTINGS + self.count,)):
+            raise InvalidInputError(
+                f"`settings` must be ({kernel.ML_SETTINGS},) or ({kernel.ML_SETTINGS} + "
+                f"{self.count},), got {ml.shape}"
+            )
         return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
                 kernel.MODEL_ML, np.ascontiguousarray(ml), np.ascontiguousarray(pts))  # fmt: skip
 
