@@ -162,6 +162,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f"{sorted(contacts.extra) or 'nothing'})"
             )
         extra["sigma"] = contacts.extra["sigma"]
+        if "sigma_normal" in contacts.extra:
+            extra["sigma_normal"] = contacts.extra["sigma_normal"]
     if args.free_space:
         if FREE_SPACE_KEY not in contacts.extra:
             raise InvalidInputError(
@@ -401,8 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     p.add_argument(
         "--contact-sigma", action="store_true",
-        help="nML: weigh each contact by the file's `sigma` (its standard deviation [m], as "
-        "explore --sensing tactile writes it)",
+        help="nML: weigh each contact by the file's `sigma` (its standard deviation [m]) and "
+        "`sigma_normal` [rad], as explore --sensing tactile writes them",
     )  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(

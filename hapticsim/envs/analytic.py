@@ -306,8 +306,7 @@ class AnalyticBackend(SupportedBackend):
             pressure = np.zeros((self.n_fingers, rows, cols))
             pressure[touch.finger] = skin.skin.pressure(depth)
             reading = skin.sensor.apply(pressure, self._pattern, self._rng)
-            est = estimate_contact(reading[touch.finger], pad, rot, core, skin.skin,
-                                   skin.sensor.noise, skin.sensor.step)  # fmt: skip
+            est = estimate_contact(reading[touch.finger], pad, rot, core, skin.skin, skin.sensor)
             if est is not None:
                 images.append(reading.astype(np.float32))
                 estimates.append(est)

@@ -16,7 +16,8 @@ output directory:
   ``sensing`` (``"exact"`` or ``"tactile"``); with tactile sensing (SPEC §11) ``points``/``normals``
   are the contacts estimated from the taxels (noise added on top only when asked),
   ``points_exact``/``normals_exact``/``force_exact`` MuJoCo's, ``sigma`` (n,) the estimate's
-  per-coordinate std [m], ``area`` (n,) [m^2] and ``taxels`` (n,) lit taxels;
+  per-coordinate std [m], ``sigma_normal`` (n,) its normal's [rad], ``area`` (n,) [m^2] and
+  ``taxels`` (n,) lit taxels;
 - ``tactile.npz`` (tactile sensing, compressed): ``images`` (touches, pads, rows, cols) readings
   [Pa], ``depth`` the skin's depth [m], ``slip`` (..., 2) [m/s], ``finger`` (touches,),
   ``pad_position`` (touches, pads, 3) [m] and ``pad_rotation`` (touches, pads, 3, 3) of the pads'
@@ -242,8 +243,8 @@ def _explore(
         free_space = near_contacts(run.free_space, a["points_clean"])
         radius = min(f.tip_radius for f in run.explorer.scene.hand.description.fingers)
         ml = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
-        if tactile:  # each estimate weighs in by its own uncertainty
-            ml["sigma"] = a["sigma"]
+        if tactile:  # each estimate weighs in by its own uncertainties
+            ml["sigma"], ml["sigma_normal"] = a["sigma"], a["sigma_normal"]
         result = fit(points, normals, method=method, rng=fit_seed,
                      **(ml if method == "nML" else {}))  # fmt: skip
         bar.set_postfix_str("scoring")
@@ -307,7 +308,8 @@ def _explore(
     out.mkdir(parents=True, exist_ok=True)
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
     if tactile:
-        keys += ("points_exact", "normals_exact", "force_exact", "sigma", "area", "taxels")
+        keys += ("points_exact", "normals_exact", "force_exact", "sigma", "sigma_normal", "area",
+                 "taxels")  # fmt: skip
     extra = {k: a[k] for k in keys}
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
     extra[FREE_SPACE_KEY] = free_space  # fingertip centres: free space for nML

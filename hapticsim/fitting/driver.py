@@ -21,7 +21,7 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_vectors
 from hapticsim.fitting.least_squares import least_squares_run
-from hapticsim.fitting.likelihood import contact_weights
+from hapticsim.fitting.likelihood import contact_weights, normal_ratio
 from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, HYBRID_METHODS, uses_normals
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.objective import Objective
@@ -65,6 +65,7 @@ def fit(
     free: Any | None = None,
     options: MLOptions | None = None,
     sigma: Any | None = None,
+    sigma_normal: Any | None = None,
 ) -> FitResult:
     """Fit a superquadric to contact points (and normals) with the paper's methods or nML.
 
@@ -95,6 +96,9 @@ def fit(
         sigma: nML only: (n,) float, each contact's standard deviation per coordinate [m], > 0
             (a tactile skin's estimate, ``contacts.npz``'s ``sigma``): the contacts' relative
             weights (:func:`~hapticsim.fitting.likelihood.contact_weights`); None: all alike.
+        sigma_normal: nML only, with `sigma`: (n,) float, each normal's standard deviation
+            [rad], > 0 (``contacts.npz``'s ``sigma_normal``): the normals' relative weights,
+            and their level against the points' (SPEC §5's ``1 / mean(a)`` without it).
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -118,20 +122,29 @@ def fit(
         raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
     ml = method == "nML"
     if not ml and (noise is not None or free is not None or options is not None
-                   or sigma is not None):  # fmt: skip
+                   or sigma is not None or sigma_normal is not None):  # fmt: skip
         raise InvalidInputError(
-            f"`noise`, `free`, `options` and `sigma` are for method nML only, got method {method}"
+            "`noise`, `free`, `options`, `sigma` and `sigma_normal` are for method nML only, "
+            f"got method {method}"
         )
     noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
     if options is not None and not isinstance(options, MLOptions):
         raise InvalidInputError(f"`options` must be MLOptions, got {type(options).__name__}")
-    multipliers = None
+    multipliers = ratio = None
+    if sigma_normal is not None and sigma is None:
+        raise InvalidInputError("`sigma_normal` needs `sigma` (the points' standard deviations)")
     if sigma is not None:
         contact_sigma = finite_array(sigma, "sigma", (len(pts),))
         if np.any(contact_sigma <= 0):
             raise InvalidInputError("`sigma` must be > 0 for every contact [m]")
-        multipliers = contact_weights(contact_sigma)
+        normal_sigma = None
+        if sigma_normal is not None:
+            normal_sigma = finite_array(sigma_normal, "sigma_normal", (len(pts),))
+            if np.any(normal_sigma <= 0):
+                raise InvalidInputError("`sigma_normal` must be > 0 for every contact [rad]")
+            ratio = normal_ratio(contact_sigma, normal_sigma)
+        multipliers = contact_weights(contact_sigma, normal_sigma)
     _check_spread(pts)
     spec = distance == "untapered" and not ml
     if not spec and n_evals < 2:
@@ -143,9 +156,9 @@ def fit(
     run = None
     if ml:
         objective = ml_objective(pts, data_normals, n_evals - 1, noise_level, free_pts, options,
-                                 multipliers)  # fmt: skip
+                                 multipliers, ratio)  # fmt: skip
         run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, noise_level, options,
-                        multipliers)  # fmt: skip
+                        multipliers, ratio)  # fmt: skip
         status = run.status
     elif method in HYBRID_METHODS:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)

@@ -27,12 +27,17 @@ free space count. When it is not given it is estimated from a fit's residuals
 (:func:`estimate_noise`).
 
 Contacts of different reliability (a tactile skin's estimates, each with its own standard
-deviation ``sigma_i``, :mod:`hapticsim.tactile.estimate`) weigh in by their multipliers
-``m_i = median(sigma) / sigma_i`` (:func:`contact_weights`, clipped to
-[1 / :data:`WEIGHT_RANGE`, :data:`WEIGHT_RANGE`]): contact i's distance and normal residuals are
-scaled by ``m_i``, as if its noise were ``sigma_p / m_i``. The noise level sigma_N is still
-estimated (from the scaled distances), so the ``sigma_i`` set the contacts' relative weights,
-not the overall level, and a skin's miscalibrated uncertainty cannot make the fit overconfident.
+deviations ``sigma_i`` of the point [m] and ``sigma_n,i`` of the normal [rad],
+:mod:`hapticsim.tactile.estimate`) weigh in by their multipliers (:func:`contact_weights`):
+``median(sigma) / sigma_i`` on the distance and ``median(sigma_n) / sigma_n,i`` on the normal
+residuals, each clipped to [1 / :data:`WEIGHT_RANGE`, :data:`WEIGHT_RANGE`], as if contact i's
+noise were that much larger or smaller. The normals' level follows their ratio to the points'
+(:func:`normal_ratio`, ``median(sigma_n) / median(sigma)``: ``sigma_n = ratio * sigma_p``)
+instead of SPEC §5's ``sigma_n = sigma_p / mean(a)``: a pad's normal is as uncertain as its
+point is along the surface, over the pad's radius, tens of times more than SPEC §5's model says.
+The noise level sigma_N is still estimated (from the scaled distances), so the sigmas set the
+contacts' relative weights and the normals' share, not the overall level, and a skin's
+miscalibrated uncertainty cannot make the fit overconfident.
 """
 
 from __future__ import annotations
@@ -69,8 +74,8 @@ class Likelihood:
         taper_prior: std tau_t of the Gaussian prior on each taper, > 0, or None.
         eps_prior: ``(eps_0, tau_e)`` of the Gaussian prior on each shape exponent, or None.
         free_margin: how far outside the solid [m] free-space points must lie (0: outside).
-        multipliers: (n,) float, each contact's weight multiplier (:func:`contact_weights`), or
-            None (all 1).
+        multipliers: (2, n) float, each contact's weight multipliers of its distance (row 0)
+            and its normal residuals (row 1) (:func:`contact_weights`), or None (all 1).
         normal_factor: ``sigma_n = normal_factor * noise``, > 0. The sensor's normal noise is
             sigma_N (factor 1), but the model normal is taken at the *measured* point: on a
             surface of curvature kappa the point noise moves it by ``kappa sigma_p`` per
@@ -105,8 +110,8 @@ class Likelihood:
             raise InvalidInputError(f"`free_margin` must be finite, got {self.free_margin!r}")
         if self.multipliers is not None:
             m = np.asarray(self.multipliers, dtype=np.float64)
-            if m.ndim != 1 or not np.all(np.isfinite(m)) or np.any(m <= 0):
-                raise InvalidInputError("`multipliers` must be (n,) finite and > 0")
+            if m.ndim != 2 or m.shape[0] != 2 or not np.all(np.isfinite(m)) or np.any(m <= 0):
+                raise InvalidInputError("`multipliers` must be (2, n) finite and > 0")
 
     @property
     def point_sigma(self) -> float:
@@ -128,16 +133,29 @@ class Likelihood:
         out[kernel.ML_FREE_WEIGHT] = 1.0 / self.point_sigma
         out[kernel.ML_FREE_MARGIN] = self.free_margin
         if self.multipliers is not None:
-            out = np.concatenate([out, np.asarray(self.multipliers, dtype=np.float64)])
+            out = np.concatenate([out, np.asarray(self.multipliers, dtype=np.float64).ravel()])
         return out
 
 
-def contact_weights(sigma: Array) -> Array:
-    """Weight multipliers (n,) of contacts with standard deviations `sigma` (n,) [m]:
-    ``median(sigma) / sigma_i``, clipped to [1 / WEIGHT_RANGE, WEIGHT_RANGE] (module
-    docstring)."""
-    s = np.asarray(sigma, dtype=np.float64)
+def _relative(s: Array) -> Array:
     return np.clip(np.median(s) / s, 1.0 / WEIGHT_RANGE, WEIGHT_RANGE)
+
+
+def contact_weights(sigma: Array, sigma_normal: Array | None = None) -> Array:
+    """Weight multipliers (2, n) of contacts with standard deviations `sigma` (n,) [m] of the
+    points and `sigma_normal` (n,) [rad] of the normals (module docstring): row 0
+    ``median(sigma) / sigma_i``, row 1 ``median(sigma_normal) / sigma_normal_i`` (row 0 again
+    without `sigma_normal`), clipped to [1 / WEIGHT_RANGE, WEIGHT_RANGE]."""
+    point = _relative(np.asarray(sigma, dtype=np.float64))
+    if sigma_normal is None:
+        return np.stack([point, point])
+    return np.stack([point, _relative(np.asarray(sigma_normal, dtype=np.float64))])
+
+
+def normal_ratio(sigma: Array, sigma_normal: Array) -> float:
+    """``median(sigma_normal) / median(sigma)`` [1/m]: the normals' noise per metre of the
+    points' (module docstring)."""
+    return float(np.median(sigma_normal) / np.median(sigma))
 
 
 def contact_distances(contacts: ContactSet, vector: Array) -> Array:
@@ -168,12 +186,12 @@ def estimate_noise(
         contacts: the contacts.
         vector: (13,) the fit.
         length: L [m], the fit's mean semi-axis (SPEC §5's point-noise scale).
-        multipliers: (n,) per-contact weight multipliers (the distances are scaled by them:
+        multipliers: (2, n) per-contact weight multipliers (the distances are scaled by row 0:
             the noise level of a contact of multiplier 1), or None.
     """
     d = contact_distances(contacts, vector)
     if multipliers is not None:
-        d = d * np.asarray(multipliers, dtype=np.float64)
+        d = d * np.asarray(multipliers, dtype=np.float64)[0]
     d = np.sort(np.abs(d))
     kept = d[: max(1, int(round((1.0 - TRIM) * len(d))))]
     return float(np.sqrt(np.mean(kept**2) / TRIM_FACTOR) / length)
@@ -187,4 +205,5 @@ __all__ = [
     "contact_distances",
     "contact_weights",
     "estimate_noise",
+    "normal_ratio",
 ]

@@ -117,14 +117,18 @@ class MLOptions:
         self.likelihood(0.1, 1.0)  # validates robust, the priors and the margin
 
     def likelihood(
-        self, noise: float, length: float, multipliers: Array | None = None
-    ) -> Likelihood:
-        """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale
-        (and per-contact weight multipliers)."""
+        self, noise: float, length: float, multipliers: Array | None = None,
+        normal_ratio: float | None = None,
+    ) -> Likelihood:  # fmt: skip
+        """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale,
+        with per-contact weight multipliers and the normals' noise per metre of the points'
+        (``normal_factor = normal_ratio * length`` instead of :attr:`normal_factor`) when
+        given."""
+        factor = self.normal_factor if normal_ratio is None else normal_ratio * length
         return Likelihood(
             noise=max(noise, self.noise_floor), length=length, robust=self.robust,
             taper_prior=self.taper_prior, eps_prior=self.eps_prior, free_margin=self.free_margin,
-            normal_factor=self.normal_factor, multipliers=multipliers,
+            normal_factor=factor, multipliers=multipliers,
         )  # fmt: skip
 
 
@@ -152,6 +156,7 @@ def ml_search(
     noise: float | None,
     options: MLOptions | None = None,
     multipliers: Array | None = None,
+    normal_ratio: float | None = None,
 ) -> MLRun:
     """Minimise the ML objective within the objective's budget (module docstring).
 
@@ -163,8 +168,10 @@ def ml_search(
         rng: the generator of every random choice.
         noise: the known sigma_N, or None to estimate it.
         options: settings (default :class:`MLOptions`).
-        multipliers: (n,) per-contact weight multipliers
+        multipliers: (2, n) per-contact weight multipliers
             (:func:`~hapticsim.fitting.likelihood.contact_weights`), or None.
+        normal_ratio: the normals' noise per metre of the points'
+            (:func:`~hapticsim.fitting.likelihood.normal_ratio`), or None (SPEC §5's).
     """
     opt = MLOptions() if options is None else options
     if not objective.ml:
@@ -189,7 +196,7 @@ def ml_search(
         length = float(np.mean(best[SLICE_A]))
         if not given:
             sigma = estimate_noise(objective.contacts, best, length, multipliers)
-        objective.reweight(opt.likelihood(sigma, length, multipliers).settings())
+        objective.reweight(opt.likelihood(sigma, length, multipliers, normal_ratio).settings())
         status = least_squares_run(objective, best).status
     return MLRun(status=status, noise=max(sigma, opt.noise_floor), estimated=not given,
                  length=length)  # fmt: skip
@@ -227,6 +234,7 @@ def ml_objective(
     free: Array | None,
     options: MLOptions | None = None,
     multipliers: Array | None = None,
+    normal_ratio: float | None = None,
 ) -> Objective:
     """The :class:`~hapticsim.fitting.objective.Objective` nML starts with: ML weights at the
     given (or assumed) noise and the data-size length scale (and per-contact multipliers),
@@ -235,7 +243,7 @@ def ml_objective(
     probe = Objective(points, normals, 0.0, 1, "tapered")
     length = probe.bounds.size / np.sqrt(3.0)
     sigma = opt.initial_noise if noise is None else noise
-    settings = opt.likelihood(sigma, length, multipliers).settings()
+    settings = opt.likelihood(sigma, length, multipliers, normal_ratio).settings()
     return Objective(points, normals, 0.0, budget, "tapered", settings=settings, free=free)
 
 

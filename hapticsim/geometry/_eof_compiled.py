@@ -514,7 +514,8 @@ ML_TAPER_WEIGHT, ML_EPS_CENTER, ML_EPS_WEIGHT = 3, 4, 5
 ML_FREE_WEIGHT, ML_FREE_MARGIN = 6, 7
 ML_SETTINGS = 8
 #: With per-contact weights the settings array holds, after its ML_SETTINGS globals, one
-#: multiplier per contact of the contact's whole residual block (distance and normal).
+#: multiplier per contact of its distance residual, then one per contact of its normal
+#: residuals ((ML_SETTINGS + 2 n,) in all).
 #: Prior residuals appended after the contacts: tx, ty, eps1, eps2.
 ML_PRIORS = 4
 
@@ -634,7 +635,8 @@ def ml_residuals_posed(
     Args:
         points, normals, with_normals, a, eps, taper, rot, center: as :func:`residuals_posed`.
         settings: (:data:`ML_SETTINGS`,) float, see the ``ML_*`` indices, optionally followed
-            by n per-contact multipliers of each contact's residual block (n + ML_SETTINGS,).
+            by n per-contact multipliers of the distances and n of the normal residuals
+            ((ML_SETTINGS + 2 n,)).
         free: (3, f) float, free-space points [m, world] (f may be 0).
         out: (P, :func:`ml_residual_count`) float.
         tally: (1,) int64, incremented by P evaluations.
@@ -661,8 +663,8 @@ def ml_residuals_posed(
                 mx, my, mz = _rotate_to_body(nx_w[i], ny_w[i], nz_w[i], f)
                 d, ex, ey, ez = ml_contact(bx, by, bz, mx, my, mz, a1, a2, a3, e1, e2, tx, ty)
                 if per_contact:
-                    m = settings[ML_SETTINGS + i]
-                    d, ex, ey, ez = m * d, m * ex, m * ey, m * ez
+                    m, mn = settings[ML_SETTINGS + i], settings[ML_SETTINGS + n + i]
+                    d, ex, ey, ez = m * d, mn * ex, mn * ey, mn * ez
                 rd, rx, ry, rz = wp * d, wn * ex, wn * ey, wn * ez
                 w = robust_weight(rd * rd + rx * rx + ry * ry + rz * rz, c)[0]
                 o_d[i], o_x[i], o_y[i], o_z[i] = w * rd, w * rx, w * ry, w * rz
@@ -908,8 +910,8 @@ def ml_jacobian_vector(
     per_contact = settings.shape[0] > ML_SETTINGS
     wp0, wn0 = wp, wn
     for i in range(n):
-        if per_contact:  # this contact's block scaled: its weights times its multiplier
-            wp, wn = wp0 * settings[ML_SETTINGS + i], wn0 * settings[ML_SETTINGS + i]
+        if per_contact:  # this contact's weights times its multipliers
+            wp, wn = wp0 * settings[ML_SETTINGS + i], wn0 * settings[ML_SETTINGS + n + i]
         d0, d1, d2, bx, by, bz = _to_body(points[0, i], points[1, i], points[2, i], f)
         m0 = m1 = m2 = mx = my = mz = 0.0
         if with_normals:

@@ -78,7 +78,8 @@ class ContactSet:
             lam, tapered: the paper EOF's lambda and distance mode.
             settings: None for the paper's EOF residuals; else the (8,) settings of the
                 maximum-likelihood residuals (``_eof_compiled.ML_*`` layout), optionally
-                followed by one weight multiplier per contact ((8 + n,)).
+                followed by the per-contact multipliers of the distance and of the normal
+                residuals ((8 + 2 n,)).
             free: (f, 3) float free-space points [m, world] of the ML residuals, or None.
 
         Returns:
@@ -90,9 +91,9 @@ class ContactSet:
             return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
                     kernel.MODEL_EOF, None, np.ascontiguousarray(pts))  # fmt: skip
         ml = np.asarray(settings, np.float64)
-        if ml.shape not in ((kernel.ML_SETTINGS,), (kernel.ML_SETTINGS + self.count,)):
+        if ml.shape not in ((kernel.ML_SETTINGS,), (kernel.ML_SETTINGS + 2 * self.count,)):
             raise InvalidInputError(
-                f"`settings` must be ({kernel.ML_SETTINGS},) or ({kernel.ML_SETTINGS} + "
+                f"`settings` must be ({kernel.ML_SETTINGS},) or ({kernel.ML_SETTINGS} + 2 x "
                 f"{self.count},), got {ml.shape}"
             )
         return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),

@@ -93,7 +93,8 @@ class Recorder:
             sensing ``points_clean``/``normals_clean`` are the estimated contacts and ``force``
             the skin's; beside them ``points_exact``, ``normals_exact`` (MuJoCo's contacts),
             ``force_exact`` (MuJoCo's normal force [N]), ``sigma`` (n,) the estimate's
-            per-coordinate std [m], ``area`` (n,) [m^2] and ``taxels`` (n,) lit taxels.
+            per-coordinate std [m], ``sigma_normal`` (n,) its normal's [rad], ``area`` (n,)
+            [m^2] and ``taxels`` (n,) lit taxels.
         """
         out = {
             "points_clean": np.array([x.point_world for x in self.contacts[start:]],
@@ -118,6 +119,7 @@ class Recorder:
         out["normals_clean"] = np.array([e.normal for e in est]).reshape(-1, 3)
         out["force"] = np.array([e.force for e in est], dtype=np.float64)
         out["sigma"] = np.array([e.sigma for e in est], dtype=np.float64)
+        out["sigma_normal"] = np.array([e.sigma_normal for e in est], dtype=np.float64)
         out["area"] = np.array([e.area for e in est], dtype=np.float64)
         out["taxels"] = np.array([e.taxels for e in est], dtype=np.int64)
         return out

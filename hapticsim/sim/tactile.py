@@ -387,10 +387,9 @@ class TactileHand:
     def estimate(self, reading: TactileReading, finger: int) -> TactileContact | None:
         """The contact finger `finger`'s pad felt in `reading`, or None."""
         pad = self.pads[finger]
-        sensor = self.skin.sensor
         return estimate_contact(
             reading.pressure[finger], pad.layout, reading.pad_rotation[finger],
-            reading.pad_position[finger], self.skin.skin, sensor.noise, sensor.step,
+            reading.pad_position[finger], self.skin.skin, self.skin.sensor,
         )  # fmt: skip
 
     def sense(self, data: mujoco.MjData, finger: int) -> SensedContact:

@@ -24,12 +24,26 @@ the point. With fewer than three lit taxels the plate's normal and the deepest t
 
 **Area and force**: the lit taxels' areas summed, and ``sum(y_i area_i)``.
 
-**Uncertainty** ``sigma`` [m]: the per-coordinate standard deviation of the point, isotropic
-(nML's per-contact noise, :func:`hapticsim.fitting.fit`'s ``sigma``): from the quadratic fit's
-coefficient covariance (the residual variance, at least the sensor's depth noise
-``sqrt(noise^2 + step^2 / 12) / (E / h)``), propagated to the peak's tangential position and its
-depth (``sigma^2 = (var u* + var v* + var d*) / 3``); for the centroid fallback, a taxel's
-uniform spread ``pitch / sqrt(12)`` along the surface. At least :data:`MIN_SIGMA`.
+**Uncertainty**: ``sigma`` [m], the standard deviation of the point's distance from the
+object's surface (along the normal: what nML's distance residual measures, :func:`hapticsim.
+fitting.fit`'s ``sigma``), and ``sigma_normal`` [rad], that of the normal per tangential axis
+(its ``sigma_normal``). Each is what the fit propagates plus a floor of the model's own error:
+
+- the sensor's depth noise per taxel, ``sqrt(noise^2 + step^2 / 12 + (gain_spread y)^2) / (E /
+  h)`` at the deepest taxel, is the least residual variance of the fits;
+- peak: the variance of the fitted peak's depth, and of its tangential position over the pad's
+  radius R for the normal (on a sphere the normal is the pad's at the peak); the sensor's
+  crosstalk (a Gaussian blur of std b) lowers a quadratic field by ``b^2 |tr H| / 2``, which is
+  added back to the peak's depth, a quarter of it counted as its standard deviation;
+- plane: the plane's offset and slope variances;
+- ridge: the sensor's depth noise, and a taxel's uniform spread ``pitch / sqrt(12)`` across the
+  ridge over R for the normal;
+- floors ``MODEL_DEPTH * pitch`` and ``MODEL_NORMAL * pitch / R`` (a flat pad: over half its
+  extent), the quadratic's and the grid's own error, measured on the tuning family (paper bodies,
+  seed 0, ideal skin; docs/tactile/README.md).
+
+A pad's normal is tens of times less certain than SPEC §5's noise model makes it
+(``sigma_n = sigma_p / mean(a)``): nML weighs the normals by ``sigma_normal``.
 
 numpy only.
 """
@@ -42,7 +56,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.tactile.pad import PadLayout
-from hapticsim.tactile.skin import SkinModel
+from hapticsim.tactile.skin import SensorModel, SkinModel
 
 Array = NDArray[np.float64]
 
@@ -58,8 +72,18 @@ PLANE_TOLERANCE: float = 2e-5
 PLANE_SPREAD: float = 0.25
 #: Farthest [pitches] the contact found on a face may lie from the nearest lit taxel.
 PLANE_REACH: float = 2.0
+#: Floor of sigma [pitches]: the model's own error of a contact's distance from the surface.
+MODEL_DEPTH: float = 0.007
+#: Floor of sigma_normal [pitch / R]: the model's own error of the normal.
+MODEL_NORMAL: float = 0.09
+#: Share of the blur correction of a peak's depth counted as its standard deviation (the
+#: correction is exact for a quadratic field; measured on the vision skin's tuning family the
+#: corrected distances' RMS was 0.3 of the whole correction).
+BLUR_UNCERTAINTY: float = 0.25
 #: Smallest per-contact sigma [m] reported.
 MIN_SIGMA: float = 1e-6
+#: Smallest per-contact normal sigma [rad] reported.
+MIN_SIGMA_NORMAL: float = 1e-4
 #: Ways a contact was estimated (:attr:`TactileContact.method`).
 METHODS: tuple[str, ...] = ("peak", "plane", "ridge", "taxel")
 
@@ -74,6 +98,7 @@ class TactileContact:
         force: normal force from the skin model [N].
         area: contact area, the lit taxels' area [m^2].
         sigma: per-coordinate standard deviation of `point` [m].
+        sigma_normal: standard deviation of `normal` per tangential axis [rad].
         depth: the skin's depth at the peak [m].
         taxels: number of lit taxels.
         method: how it was found (:data:`METHODS`).
@@ -84,6 +109,7 @@ class TactileContact:
     force: float
     area: float
     sigma: float
+    sigma_normal: float
     depth: float
     taxels: int
     method: str
@@ -138,8 +164,7 @@ def estimate_contact(
     rotation: Array,
     translation: Array,
     skin: SkinModel,
-    noise: float = 0.0,
-    step: float = 0.0,
+    sensor: SensorModel | None = None,
 ) -> TactileContact | None:
     """The contact one pad's reading stands for (module docstring), or None when no taxel is
     lit.
@@ -150,8 +175,8 @@ def estimate_contact(
         rotation: (3, 3) float, the carrier's orientation in the world (columns: its axes).
         translation: (3,) float, the carrier's origin [m, world].
         skin: the skin's elastic model (depth from pressure).
-        noise: the sensor's noise std per taxel [Pa] (for `sigma`).
-        step: the sensor's quantisation step [Pa] (for `sigma`).
+        sensor: the sensor model the reading went through (its noise, quantisation and gain
+            spread enter the uncertainties), or None (ideal).
     """
     y = np.asarray(reading, dtype=np.float64).reshape(layout.shape)
     lit = y > 0.0
@@ -164,30 +189,46 @@ def estimate_contact(
     t = np.asarray(translation, dtype=np.float64)
     force = float(np.sum(y * area))
     total_area = float(np.sum(area[lit]))
-    sigma_depth = float(np.sqrt(noise**2 + step**2 / 12.0)) / skin.stiffness
+    sensor = SensorModel() if sensor is None else sensor
+    top = float(y.max())
+    noise2 = sensor.noise**2 + sensor.step**2 / 12.0 + (sensor.gain_spread * top) ** 2
+    sigma_depth = float(np.sqrt(noise2)) / skin.stiffness
+    blur = sensor.blur * layout.pitch  # the crosstalk's std [m]
     if layout.curved:
-        point_c, normal_c, depth, sigma, method = _curved(y, d, lit, layout, sigma_depth)
+        point_c, normal_c, depth, sigma, sigma_n, method = _curved(y, d, lit, layout, sigma_depth,
+                                                                   blur)  # fmt: skip
     else:
-        point_c, normal_c, depth, sigma, method = _flat(d, lit, pos, nrm, layout, sigma_depth)
+        point_c, normal_c, depth, sigma, sigma_n, method = _flat(d, lit, pos, nrm, layout,
+                                                                 sigma_depth)  # fmt: skip
     normal_w = rot @ normal_c
     return TactileContact(
         point=rot @ point_c + t, normal=normal_w / np.linalg.norm(normal_w), force=force,
-        area=total_area, sigma=max(sigma, MIN_SIGMA), depth=depth, taxels=count, method=method,
+        area=total_area, sigma=max(sigma, MIN_SIGMA),
+        sigma_normal=max(sigma_n, MIN_SIGMA_NORMAL), depth=depth, taxels=count, method=method,
     )  # fmt: skip
 
 
 def _curved(
-    y: Array, d: Array, lit: NDArray[np.bool_], layout: PadLayout, sigma_depth: float
-) -> tuple[Array, Array, float, float, str]:
-    """The contact on a curved pad (carrier frame): point, normal, depth, sigma, method."""
+    y: Array, d: Array, lit: NDArray[np.bool_], layout: PadLayout, sigma_depth: float,
+    blur: float = 0.0,
+) -> tuple[Array, Array, float, float, float, str]:  # fmt: skip
+    """The contact on a curved pad (carrier frame): point, normal, depth, sigma, normal sigma,
+    method. `blur` [m] is the sensor's crosstalk std: a Gaussian blur of a quadratic field adds
+    ``blur^2 tr(H) / 2`` to it, so the peak's depth is corrected by that much (and the
+    correction counts in sigma)."""
+    radius = float(layout.radius)
     i0, j0 = np.unravel_index(int(np.argmax(d)), d.shape)
     inner = 0 < i0 < layout.rows - 1 and 0 < j0 < layout.cols - 1
     if inner:  # the deepest taxel has neighbours all round: the peak lies on the pad
         found = _quadratic_peak(d, lit, layout, (i0, j0), sigma_depth)
         if found is not None:
-            uv_peak, depth, sigma = found
+            uv_peak, depth, var_depth, tangential, trace = found
+            correction = -0.5 * blur**2 * trace  # the blur lowered the peak by this much
+            depth += correction
+            var_depth += (BLUR_UNCERTAINTY * correction) ** 2
             p, m = layout.map(uv_peak)
-            return p - depth * m, -m, depth, sigma, "peak"
+            sigma, sigma_n = _floored(layout, var_depth, tangential / 2.0 / radius**2, radius)
+            return p - depth * m, -m, depth, sigma, sigma_n, "peak"
     pos, nrm, _ = layout.taxels
     q = (pos - d[..., None] * nrm)[lit]  # surface points of the lit taxels
     core = layout.origin
@@ -198,22 +239,47 @@ def _curved(
             normal = -normal
         point = core - float(normal @ (core - centre)) * normal
         if np.min(np.linalg.norm(q - point, axis=1)) <= PLANE_REACH * layout.pitch:
-            sigma = np.sqrt((residual + sigma_depth**2) / len(q) * 3.0
-                            + layout.pitch**2 / (12.0 * len(q)))  # fmt: skip
-            return point, normal, float(d.max()), float(sigma), "plane"
-    uv_peak, depth = _ridge_peak(d, lit, layout, (i0, j0))  # an edge, or a few taxels
+            variance = residual + sigma_depth**2
+            sigma, sigma_n = _floored(layout, variance / len(q), _slope_variance(q, variance),
+                                      radius)  # fmt: skip
+            return point, normal, float(d.max()), sigma, sigma_n, "plane"
+    uv_peak, depth, unresolved = _ridge_peak(d, lit, layout, (i0, j0))  # an edge, few taxels
+    # the peak lies anywhere within a taxel's cell along each unresolved axis: its depth is
+    # pitch^2 / (24 R) deeper than the taxel's on average (a uniform offset over a sphere)
+    deficit = unresolved * layout.pitch**2 / (24.0 * radius)
+    depth += deficit
     p, m = layout.map(uv_peak)
-    sigma = np.sqrt((2.0 * layout.pitch**2 / 12.0 + sigma_depth**2) / 3.0)
-    return p - depth * m, -m, depth, float(sigma), "ridge"
+    sigma, sigma_n = _floored(layout, sigma_depth**2 + deficit**2,
+                              layout.pitch**2 / 12.0 / radius**2, radius)  # fmt: skip
+    return p - depth * m, -m, depth, sigma, sigma_n, "ridge"
+
+
+def _floored(
+    layout: PadLayout, var_depth: float, var_normal: float, radius: float
+) -> tuple[float, float]:
+    """``sigma`` [m] and ``sigma_normal`` [rad] from a method's variances, with the model's
+    floors (module docstring)."""
+    sigma = np.sqrt(var_depth + (MODEL_DEPTH * layout.pitch) ** 2)
+    sigma_n = np.sqrt(var_normal + (MODEL_NORMAL * layout.pitch / radius) ** 2)
+    return float(sigma), float(sigma_n)
+
+
+def _slope_variance(q: Array, variance: float) -> float:
+    """Variance [rad^2] of the normal of a plane fitted to points q (k, 3) whose distances from
+    it have `variance` [m^2], per axis: the slopes' of a least-squares plane (the narrower
+    spread)."""
+    spread = np.linalg.eigvalsh((q - q.mean(axis=0)).T @ (q - q.mean(axis=0)))
+    return float(variance / max(spread[1], 1e-300))
 
 
 def _ridge_peak(
     d: Array, lit: NDArray[np.bool_], layout: PadLayout, deepest: tuple[int, int]
-) -> tuple[Array, float]:
+) -> tuple[Array, float, int]:
     """The peak (u*, v*) [m] and depth [m] of a ridge of lit taxels (an edge of the object
     crossing the pad), or of a few lit taxels: within :data:`WINDOW` of the deepest taxel, a
     parabola through the depths along the lit taxels' major axis locates the peak along it,
-    their depth-weighted mean across it."""
+    their depth-weighted mean across it; and how many of the two axes it leaves unresolved
+    (no parabola's peak along them)."""
     i0, j0 = deepest
     rows = slice(max(i0 - WINDOW, 0), i0 + WINDOW + 1)
     cols = slice(max(j0 - WINDOW, 0), j0 + WINDOW + 1)
@@ -224,7 +290,7 @@ def _ridge_peak(
     w = dw / dw.sum()
     mean = w @ uv
     if len(dw) < 3:
-        return uv0 + mean, float(dw.max())
+        return uv0 + mean, float(dw.max()), 2
     spread = (uv - mean).T @ ((uv - mean) * w[:, None])
     axes = np.linalg.eigh(spread)[1]
     major, minor = axes[:, 1], axes[:, 0]
@@ -236,17 +302,19 @@ def _ridge_peak(
             along = float(np.clip(-c1 / (2.0 * c2), s.min() / layout.pitch,
                                   s.max() / layout.pitch))  # fmt: skip
             peak = c0 + along * (c1 + c2 * along)
-            return uv0 + along * layout.pitch * major + across * minor, float(max(peak, dw.max()))
-    return uv0 + float(w @ s) * major + across * minor, float(dw.max())
+            return (uv0 + along * layout.pitch * major + across * minor,
+                    float(max(peak, dw.max())), 1)  # fmt: skip
+    return uv0 + float(w @ s) * major + across * minor, float(dw.max()), 2
 
 
 def _quadratic_peak(
     d: Array, lit: NDArray[np.bool_], layout: PadLayout, deepest: tuple[int, int],
     sigma_depth: float,
-) -> tuple[Array, float, float] | None:  # fmt: skip
-    """The peak (u*, v*) [m], its depth [m] and sigma [m] of the quadratic fitted to the lit
-    taxels within :data:`WINDOW` of the deepest one, or None (too few taxels, no maximum, or a
-    maximum beyond :data:`PEAK_REACH`)."""
+) -> tuple[Array, float, float, float, float] | None:  # fmt: skip
+    """The peak (u*, v*) [m], its depth [m], the variances of its depth [m^2] and of its
+    tangential position [m^2], and the trace of the fitted Hessian [1/m] of the quadratic
+    fitted to the lit taxels within :data:`WINDOW` of the deepest one, or None (too few
+    taxels, no maximum, or a maximum beyond :data:`PEAK_REACH`)."""
     i0, j0 = deepest
     rows = slice(max(i0 - WINDOW, 0), i0 + WINDOW + 1)
     cols = slice(max(j0 - WINDOW, 0), j0 + WINDOW + 1)
@@ -266,7 +334,8 @@ def _quadratic_peak(
     cov = max(var, sigma_depth**2) * inv
     cov_s, var_value = _peak_covariance(coef, cov, peak[0])
     tangential = float(np.trace(cov_s)) * layout.pitch**2
-    return uv0 + peak[0] * layout.pitch, peak[1], float(np.sqrt((tangential + var_value) / 3.0))
+    trace = 2.0 * (coef[3] + coef[5]) / layout.pitch**2  # tr(H) [1/m], negative at a peak
+    return uv0 + peak[0] * layout.pitch, peak[1], var_value, tangential, float(trace)
 
 
 def _plane(q: Array) -> tuple[Array, Array, float] | None:
@@ -282,19 +351,33 @@ def _plane(q: Array) -> tuple[Array, Array, float] | None:
 def _flat(
     d: Array, lit: NDArray[np.bool_], pos: Array, nrm: Array, layout: PadLayout,
     sigma_depth: float,
-) -> tuple[Array, Array, float, float, str]:  # fmt: skip
+) -> tuple[Array, Array, float, float, float, str]:  # fmt: skip
     """Plane through the surface points of a flat pad's lit taxels (carrier frame)."""
     q = (pos - d[..., None] * nrm)[lit]
     plane = _plane(q) if len(q) >= 3 else None
     if plane is None:
         peak = int(np.argmax(d[lit]))
-        sigma = np.sqrt((2.0 * layout.pitch**2 / 12.0 + sigma_depth**2) / 3.0)
-        return q[peak], -layout.normal, float(d[lit][peak]), float(sigma), "taxel"
+        # the plate's normal stands for the face's: a tilt of up to about 30 deg
+        half = 0.5 * max(layout.extent[0], layout.extent[1], layout.pitch)
+        sigma, _ = _floored(layout, sigma_depth**2, 0.0, half)
+        return q[peak], -layout.normal, float(d[lit][peak]), sigma, 0.3, "taxel"
     centre, normal, residual = plane
     if normal @ layout.normal > 0:
         normal = -normal
-    sigma = np.sqrt((residual + sigma_depth**2) / len(q) + layout.pitch**2 / (12.0 * len(q)))
-    return centre, normal, float(d[lit].max()), float(sigma), "plane"
+    variance = residual + sigma_depth**2
+    half = 0.5 * max(layout.extent[0], layout.extent[1], layout.pitch)
+    sigma, sigma_n = _floored(layout, variance / len(q), _slope_variance(q, variance), half)
+    return centre, normal, float(d[lit].max()), sigma, sigma_n, "plane"
 
 
-__all__ = ["METHODS", "MIN_SIGMA", "PEAK_REACH", "TactileContact", "WINDOW", "estimate_contact"]
+__all__ = [
+    "METHODS",
+    "MIN_SIGMA",
+    "MIN_SIGMA_NORMAL",
+    "MODEL_DEPTH",
+    "MODEL_NORMAL",
+    "PEAK_REACH",
+    "TactileContact",
+    "WINDOW",
+    "estimate_contact",
+]

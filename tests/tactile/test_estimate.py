@@ -7,7 +7,7 @@ import pytest
 
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rotations import rotvec_to_matrix
-from hapticsim.tactile import PadLayout, SkinModel, estimate_contact, taxel_depths
+from hapticsim.tactile import PadLayout, SensorModel, SkinModel, estimate_contact, taxel_depths
 
 RADIUS = 0.008
 PAD = PadLayout(21, 21, 0.0015, RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])
@@ -58,20 +58,25 @@ def test_nothing_lit_is_no_contact() -> None:
     assert estimate_contact(reading, PAD, rot, centre, SKIN) is None
 
 
-def test_sigma_covers_the_error_under_noise() -> None:
-    """With depth noise of 10 um the reported sigma is of the size of the errors (measured
-    over 40 presses: RMS of the error / sigma per coordinate 0.5-1.5)."""
+def test_sigma_and_sigma_normal_are_the_size_of_the_errors_under_noise() -> None:
+    """With depth noise of 10 um on a flat face: the distance from the face over sigma has an
+    RMS of 0.69 over 40 presses, the normal's angle per tangential axis over sigma_normal 0.13
+    (its floor MODEL_NORMAL, set on the hand's explorations of the paper bodies with their
+    edges, is far above this clean face's error): never overconfident."""
     rng = np.random.default_rng(0)
     noise = 10e-6 * SKIN.stiffness
-    ratios = []
+    z_distance, z_normal = [], []
     for _ in range(40):
         tilt = rng.normal(size=3) * 0.3
         rot, centre, reading = _press(FLAT, rng.uniform(4e-4, 8e-4), tilt)
         noisy = np.where(reading > 0, reading + noise * rng.standard_normal(reading.shape), 0)
-        est = estimate_contact(np.maximum(noisy, 0), PAD, rot, centre, SKIN, noise=noise)
-        ratios.append(np.linalg.norm(est.point) / np.sqrt(3) / est.sigma)
-    rms = float(np.sqrt(np.mean(np.square(ratios))))
-    assert 0.3 < rms < 2.0, rms
+        est = estimate_contact(np.maximum(noisy, 0), PAD, rot, centre, SKIN,
+                               SensorModel(noise=noise))  # fmt: skip
+        z_distance.append(est.point[2] / est.sigma)  # the face is z = 0
+        z_normal.append(np.arccos(np.clip(est.normal[2], -1, 1)) / np.sqrt(2) / est.sigma_normal)
+    rms_distance = float(np.sqrt(np.mean(np.square(z_distance))))
+    rms_normal = float(np.sqrt(np.mean(np.square(z_normal))))
+    assert 0.4 < rms_distance < 2.0 and rms_normal < 2.0, (rms_distance, rms_normal)
 
 
 def test_a_flat_pad_finds_a_tilted_face() -> None:
