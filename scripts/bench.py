@@ -19,6 +19,9 @@ listing it in ``SECTIONS``):
   process in the same run.
 - ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
   exploration per body (:func:`hapticsim.sim.benchmark.benchmark_sim`).
+- ``tactile``: exact against tactile sensing in the same run: the environment's steps per
+  second with random touches per backend (ideal skin), and ``explore``'s whole work (simulation,
+  fit, score, files, report picture) on the paper's four bodies, the two alternating.
 
 The machine is shared: every section records the 1-minute load average beside its timings;
 medians are quoted, and CPU seconds (which other processes change less) beside wall seconds.
@@ -216,12 +219,58 @@ def section_sim(args: argparse.Namespace) -> dict[str, Any]:
     return benchmark_sim(count=150) | {"load": _load()}
 
 
+def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
+    """Exact against tactile sensing, same run: environment steps per second per backend and
+    explore's time per body (medians over the four bodies)."""
+    from hapticsim.envs.benchmark import benchmark_env
+    from hapticsim.experiments.explore import explore
+
+    out: dict[str, Any] = {}
+    for backend in args.backends:
+        episodes = args.env_episodes if backend == "analytic" else args.mujoco_episodes
+        rows = {
+            sensing: benchmark_env(backend, episodes, sensing=sensing) | {"load": _load()}
+            for sensing in ("exact", "tactile")
+        }
+        for key in ("steps_per_second", "steps_per_second_with_resets", "steps_per_cpu_second"):
+            rows[f"{key}_ratio"] = rows["tactile"][key] / rows["exact"][key]
+        out[backend] = rows
+    bodies = ("tapered_box", "cube", "cylinder", "ellipsoid")
+    times: dict[str, dict[str, list[float]]] = {
+        s: {"wall": [], "cpu": []} for s in ("exact", "tactile")
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        explore("cube", seed=0, out_dir=f"{tmp}/warm", progress=False, sensing="tactile")
+        for body in bodies:
+            for sensing in ("exact", "tactile"):
+                t, c = time.perf_counter(), time.process_time()
+                explore(body, seed=0, out_dir=f"{tmp}/{body}-{sensing}", progress=False,
+                        sensing=sensing)  # fmt: skip
+                times[sensing]["wall"].append(time.perf_counter() - t)
+                times[sensing]["cpu"].append(time.process_time() - c)
+                print(f"bench tactile: explore {body} {sensing}", file=sys.stderr)
+    explore_out: dict[str, Any] = {
+        s: {"wall_median": float(np.median(v["wall"])), "cpu_median": float(np.median(v["cpu"])),
+            "wall": v["wall"]}
+        for s, v in times.items()
+    }  # fmt: skip
+    explore_out["wall_ratio"] = (
+        explore_out["tactile"]["wall_median"] / explore_out["exact"]["wall_median"]
+    )
+    explore_out["cpu_ratio"] = (
+        explore_out["tactile"]["cpu_median"] / explore_out["exact"]["cpu_median"]
+    )
+    out["explore"] = explore_out | {"load": _load()}
+    return out
+
+
 SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
     "fit": section_fit,
     "startup": section_startup,
     "score": section_score,
     "env": section_env,
     "sim": section_sim,
+    "tactile": section_tactile,
 }
 
 

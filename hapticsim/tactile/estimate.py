@@ -145,16 +145,17 @@ def _peak(coef: Array) -> tuple[Array, float] | None:
 
 
 def _peak_covariance(coef: Array, cov: Array, s: Array) -> tuple[Array, float]:
-    """Covariance (2, 2) of the peak position and variance of its value (delta method)."""
-    jac = np.zeros((2, 6))
-    step = 1e-7 * max(float(np.max(np.abs(coef))), 1e-12)
-    for k in range(1, 6):
-        bumped = coef.copy()
-        bumped[k] += step
-        peak = _peak(bumped)
-        if peak is not None:
-            jac[:, k] = (peak[0] - s) / step
-    g_value = np.array([1.0, s[0], s[1], s[0] ** 2, s[0] * s[1], s[1] ** 2])
+    """Covariance (2, 2) of the peak position and variance of its value (delta method).
+
+    ``s = -H^-1 g``, so ``ds = -H^-1 (dg + dH s)``: the columns of ds/dcoef are ``-H^-1`` times
+    (1, 0) and (0, 1) for (cu, cv), (2 s_u, 0), (s_v, s_u), (0, 2 s_v) for (cuu, cuv, cvv); the
+    value's gradient is (1, s_u, s_v, s_u^2, s_u s_v, s_v^2) at the stationary point."""
+    _, _, _, cuu, cuv, cvv = coef
+    inv = np.linalg.inv(np.array([[2.0 * cuu, cuv], [cuv, 2.0 * cvv]]))
+    su, sv = s
+    rhs = np.array([[0.0, 1.0, 0.0, 2.0 * su, sv, 0.0], [0.0, 0.0, 1.0, 0.0, su, 2.0 * sv]])
+    jac = -inv @ rhs
+    g_value = np.array([1.0, su, sv, su * su, su * sv, sv * sv])
     return jac @ cov @ jac.T, float(g_value @ cov @ g_value)
 
 
@@ -296,7 +297,7 @@ def _ridge_peak(
     major, minor = axes[:, 1], axes[:, 0]
     s, t = uv @ major, uv @ minor
     across = float(w @ t)
-    if np.ptp(np.round(s / layout.pitch, 6)) > 0:
+    if len(np.unique(np.round(s / layout.pitch, 6))) >= 3:  # a parabola needs three
         c2, c1, c0 = np.polyfit(s / layout.pitch, dw, 2, w=np.sqrt(w))
         if c2 < 0:
             along = float(np.clip(-c1 / (2.0 * c2), s.min() / layout.pitch,

@@ -119,7 +119,7 @@ class PadLayout:
                 )
 
     # ----------------------------------------------------------------- frame
-    @property
+    @cached_property
     def e_u(self) -> Array:
         """(3,) the direction of increasing column index at the centre."""
         return np.cross(self.up, self.normal)
