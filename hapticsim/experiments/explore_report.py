@@ -118,22 +118,25 @@ def exploration_figure_png(
 
 
 def _pad_row(fig: Any, cell: Any, tactile: dict[str, Any]) -> None:
-    """The pressure images [kPa] of a few touches side by side, one colour scale."""
+    """The pressure images [kPa] of a few touches side by side, one colour scale: one mosaic in
+    one axes (eight axes cost matplotlib a third of a second more)."""
     images = np.asarray(tactile["images"], dtype=np.float64) / 1000.0
     k = len(images)
     if k == 0:
         return
-    row = cell.subgridspec(1, k + 1, width_ratios=[1] * k + [0.08])
-    top = max(float(images.max()), 1e-9)
-    shown = None
-    for i, (image, label) in enumerate(zip(images, tactile["labels"], strict=True)):
-        ax = fig.add_subplot(row[0, i])
-        shown = ax.imshow(image, cmap="inferno", vmin=0.0, vmax=top, interpolation="nearest")
-        ax.set_title(label, fontsize=7)
-        ax.set_xticks([])
-        ax.set_yticks([])
-    cax = fig.add_subplot(row[0, k])
-    bar = fig.colorbar(shown, cax=cax)
+    rows, cols = images.shape[1:]
+    gap = max(1, cols // 10)
+    mosaic = np.full((rows, k * cols + (k - 1) * gap), np.nan)
+    for i, image in enumerate(images):
+        mosaic[:, i * (cols + gap) : i * (cols + gap) + cols] = image
+    row = cell.subgridspec(1, 2, width_ratios=[1.0, 0.012])
+    ax = fig.add_subplot(row[0, 0])
+    shown = ax.imshow(mosaic, cmap="inferno", vmin=0.0, vmax=max(float(images.max()), 1e-9),
+                      interpolation="nearest")  # fmt: skip
+    for i, label in enumerate(tactile["labels"]):
+        ax.text(i * (cols + gap) + cols / 2, -1.0, label, ha="center", va="bottom", fontsize=7)
+    ax.set_axis_off()
+    bar = fig.colorbar(shown, cax=fig.add_subplot(row[0, 1]))
     bar.set_label("pressure [kPa]", fontsize=7)
     bar.ax.tick_params(labelsize=6)
 
