@@ -26,7 +26,7 @@ COMPILED: tuple[str, ...] = (
     "geometry/_rays_compiled.py",
     "fitting/_lm_compiled.py",
     "fitting/_ga_compiled.py",
-    "metrics/_compiled.py",
+    "geometry/_sampling_compiled.py",
 )
 _STAMP = "hapticsim-jit-sources.sha256"
 _checked = False

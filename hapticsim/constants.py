@@ -30,7 +30,7 @@ MAX_BUDGET: int = 1_000_000_000
 #: Most runs (data sets) per setting of a sweep (``reproduce --runs``).
 MAX_RUNS: int = 100_000
 #: Interior samples per solid (alpha, beta) and Chamfer points per surface of the per-step
-#: scorers (``TruthScorer``, ``MeshScorer``) and of the environment by default: quasi-random,
+#: scorer (``TruthScorer``, any solids) and of the environment by default: quasi-random,
 #: RMS error of epsilon 0.0032 and of the Chamfer distance 1.2 % (docs/fast-loop).
 SCORE_SAMPLES: int = 4096
 SCORE_CHAMFER_POINTS: int = 128

@@ -70,11 +70,11 @@ def _run(source: str, seed: int, out: Path, label: str, group: str) -> dict[str,
     if group == "meshes":
         from hapticsim.data.objects import load_mesh
         from hapticsim.geometry import Superquadric
-        from hapticsim.metrics.mesh_truth import mesh_boolean_overlap
+        from hapticsim.metrics import boolean_overlap
 
         truth = load_mesh(summary["files"]["truth"])  # the world-frame truth.stl
         fit = Superquadric.from_json(summary["files"]["fit"])
-        exact = mesh_boolean_overlap(fit, truth)
+        exact = boolean_overlap(fit, truth)
         row["exact"] = {"alpha": exact.alpha, "beta": exact.beta, "iou": exact.iou,
                         "epsilon": exact.epsilon}  # fmt: skip
         row["mc_vs_exact"] = max(

@@ -9,8 +9,8 @@ References: alpha and beta from 3 x 10^6 Monte Carlo samples (``volume_overlap``
 (samples, Chamfer points), the RMS and largest errors of alpha, beta and epsilon, the RMS
 relative error of the Chamfer distance, and the median time of one score; and, for comparison,
 the error of plain Monte Carlo at 10 000 samples (``volume_overlap``, fresh seeds). Then the
-same for the mesh-truth scorer (``MeshScorer``, default 4096 samples) on the L-block: 6 nearby
-superquadrics x 3 scorer seeds against ``score_mesh`` with 400 000 Monte Carlo samples.
+same for a mesh truth (``TruthScorer``, default 4096 samples) on the L-block: 6 nearby
+superquadrics x 3 scorer seeds against ``score`` with 400 000 Monte Carlo samples.
 """
 
 from __future__ import annotations
@@ -97,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     from hapticsim.data.example_meshes import l_block
     from hapticsim.geometry import Superquadric
     from hapticsim.geometry.rotations import rotvec_to_matrix
-    from hapticsim.metrics.mesh_truth import MeshScorer, score_mesh
+    from hapticsim.metrics import score
 
     solid, gen = l_block(), np.random.default_rng(4)
     mesh_errors, mesh_seconds = [], []
@@ -108,11 +108,11 @@ def main(argv: list[str] | None = None) -> int:
             rotation=solid.principal_axes @ rotvec_to_matrix(gen.normal(0.0, 0.15, 3)),
             center=solid.centroid + gen.normal(0.0, 0.003, 3),
         )  # fmt: skip
-        r = score_mesh(est, solid, rng=9, volume_samples=400_000, chamfer_samples=500)
+        r = score(est, solid, rng=9, volume_samples=400_000, chamfer_samples=500)
         for seed in range(3):
-            scorer = MeshScorer(solid, rng=seed)
+            scorer = TruthScorer(solid, rng=seed)
             start = time.perf_counter()
-            f = scorer(est)
+            f = scorer.score(est).to_dict()
             mesh_seconds.append(time.perf_counter() - start)
             mesh_errors.append(
                 (f["alpha"] - r.alpha, f["beta"] - r.beta, f["epsilon"] - r.alpha - r.beta)
@@ -125,7 +125,7 @@ def main(argv: list[str] | None = None) -> int:
         "load_average_1min": {"start": load, "end": os.getloadavg()[0]},
         "truth_scorer": rows,
         "monte_carlo_10000": summary(mc, []),
-        "mesh_scorer_l_block_4096": summary(mesh_errors, mesh_seconds),
+        "mesh_truth_l_block_4096": summary(mesh_errors, mesh_seconds),
     }  # fmt: skip
     text = json.dumps(result, indent=2) + "\n"
     if args.out is not None:

@@ -63,11 +63,7 @@ def _angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _true_normals(truth: Any, points: np.ndarray) -> np.ndarray:
-    from hapticsim.envs.mesh_surface import MeshSurface
-    from hapticsim.geometry import MeshSolid
-
-    surface = MeshSurface(truth) if isinstance(truth, MeshSolid) else truth
-    return surface.normals(points)
+    return truth.normals(points)
 
 
 def _epsilon(points: np.ndarray, normals: np.ndarray, truth: Any, method: str,
@@ -86,12 +82,12 @@ def _contact_errors(
     the true normal there (sim/accuracy.py's, as contact_accuracy reports them; on a mesh,
     against the normal cone of an edge or vertex within `tolerance` [m])."""
     from hapticsim.geometry import MeshSolid
-    from hapticsim.sim.accuracy import mesh_contact_errors, normal_angle_deg, surface_distance
 
-    if isinstance(truth, MeshSolid):
-        dist, angle = mesh_contact_errors(truth, points, normals, feature_tolerance=tolerance)
-        return np.asarray(dist), np.radians(angle)
-    return surface_distance(truth, points), np.radians(normal_angle_deg(truth, points, normals))
+    if isinstance(truth, MeshSolid):  # the only kind with a tolerance for its edges
+        dist, angle = truth.contact_errors(points, normals, feature_tolerance=tolerance)
+    else:
+        dist, angle = truth.contact_errors(points, normals)
+    return np.asarray(dist), np.radians(angle)
 
 
 def _task(task: tuple[str, str, str, str, int, str, str]) -> dict[str, Any]:

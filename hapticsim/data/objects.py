@@ -36,6 +36,7 @@ from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric, quaternion_to_matrix
 from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -57,7 +58,7 @@ OBJECT_HELP: str = (
     "metres unless scaled)"
 )
 
-Truth = Superquadric | MeshSolid
+Truth = Solid
 
 
 def _check_range(name: str, value: Any, low: float, high: float) -> tuple[float, float]:
@@ -340,6 +341,16 @@ def write_stl(path: str | Path, solid: MeshSolid) -> Path:
     return atomic_write(path, lambda fh: fh.write(data), "wb")
 
 
+def truth_file(solid: Solid) -> tuple[str, bytes]:
+    """The file a run writes of its truth: a mesh as binary STL (``truth.stl``, its JSON would
+    be large), any other solid as its JSON (``truth.json``: SPEC §6, a union SPEC §10)."""
+    import json
+
+    if isinstance(solid, MeshSolid):
+        return "truth.stl", stl_bytes(solid)
+    return "truth.json", (json.dumps(solid.to_dict(), indent=2) + "\n").encode()
+
+
 def as_spec(value: ObjectSpec | str | Path) -> ObjectSpec:
     """An :class:`ObjectSpec` from itself, a name or a path."""
     if isinstance(value, ObjectSpec):
@@ -352,26 +363,14 @@ def as_spec(value: ObjectSpec | str | Path) -> ObjectSpec:
 
 
 def resolve_object(
-    value: ObjectSpec | str | Path | Superquadric | MeshSolid,
+    value: ObjectSpec | str | Path | Solid,
     rng: np.random.Generator | int | None = None,
 ) -> Truth:
-    """The ground truth of any object description: a Superquadric or MeshSolid as it is, or a
-    spec, name or path resolved by :meth:`ObjectSpec.resolve`."""
-    if isinstance(value, (Superquadric, MeshSolid)):
+    """The ground truth of any object description: a solid as it is, or a spec, name or path
+    resolved by :meth:`ObjectSpec.resolve`."""
+    if isinstance(value, Solid):
         return value
     return as_spec(value).resolve(rng)
-
-
-def truth_size(truth: Truth) -> float:
-    """The length [m] relative noise is scaled by (SPEC §5): ``mean(a)`` of a superquadric,
-    :attr:`MeshSolid.size` (mean principal half-extent) of a mesh."""
-    if isinstance(truth, Superquadric):
-        return float(np.mean(truth.a))
-    if isinstance(truth, MeshSolid):
-        return truth.size
-    raise InvalidInputError(
-        f"`truth` must be a Superquadric or MeshSolid, got {type(truth).__name__}"
-    )
 
 
 __all__ = [
@@ -387,6 +386,6 @@ __all__ = [
     "random_superquadric",
     "resolve_object",
     "stl_bytes",
-    "truth_size",
+    "truth_file",
     "write_stl",
 ]

@@ -36,14 +36,12 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.data.noise import add_noise
-from hapticsim.data.objects import truth_size
-from hapticsim.envs.mesh_surface import MeshSurface
 from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.rays import RAY_GRID, REFINE_GRID, raycast, raycast_many
+from hapticsim.geometry.solid import Solid
 from hapticsim.tactile import PadLayout, estimate_contact, load_skin
 from hapticsim.tactile.pad import DEFAULT_PAD_GRID
 from hapticsim.tactile.press import press
@@ -59,7 +57,7 @@ TIP_RADIUS: float = 0.008
 _SECTION_RAYS: int = 160
 
 
-def stroke_plane(shape: Superquadric, first: Array, stroke_angle: float) -> tuple[Array, Array]:
+def stroke_plane(shape: Solid, first: Array, stroke_angle: float) -> tuple[Array, Array]:
     """Initial direction and plane normal of a stroke from `first` (action semantics).
 
     Args:
@@ -77,7 +75,7 @@ def stroke_plane(shape: Superquadric, first: Array, stroke_angle: float) -> tupl
 
 
 def section_walk(
-    shape: Superquadric,
+    shape: Solid,
     first: Array,
     stroke_angle: float,
     n_steps: int,
@@ -140,7 +138,7 @@ def section_walk(
 
 
 def _boundary(
-    shape: Superquadric,
+    shape: Solid,
     inside: Array,
     rays: Array,
     reach: float,
@@ -188,8 +186,7 @@ class AnalyticBackend(SupportedBackend):
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-4, 1.0)
         self.touch_seconds = finite_float(touch_seconds, "touch_seconds", 0.0)
         self.stroke_speed = finite_float(stroke_speed, "stroke_speed", 1e-6)
-        self._truth: Superquadric | MeshSolid | None = None
-        self._surface: Superquadric | MeshSurface | None = None  # what rays and strokes meet
+        self._truth: Solid | None = None
         self._rng: np.random.Generator | None = None
         self._support: Support | None = None
         self._clock = 0.0
@@ -215,8 +212,8 @@ class AnalyticBackend(SupportedBackend):
 
     # ------------------------------------------------------------------ episode
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, rough: Any = None
-    ) -> Superquadric:
+        self, shape: Solid, rng: np.random.Generator, rough: Any = None
+    ) -> Solid:
         """Place `shape` as given (its own pose) and start a new episode.
 
         Args:
@@ -229,7 +226,6 @@ class AnalyticBackend(SupportedBackend):
             the ground truth, `shape` itself.
         """
         self._truth = shape
-        self._surface = MeshSurface(shape) if isinstance(shape, MeshSolid) else shape
         self._rng = rng
         self._clock = 0.0
         self._support = Support.under(shape, self.support_kind)
@@ -243,14 +239,14 @@ class AnalyticBackend(SupportedBackend):
         Raises:
             InvalidInputError: before :meth:`reset`, or for a finger the hand does not have.
         """
-        if self._truth is None or self._surface is None or self._rng is None:
+        if self._truth is None or self._rng is None:
             raise InvalidInputError("call `reset` before `touch`")
         if touch.finger >= self.n_fingers:
             raise InvalidInputError(
                 f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
             )
         start = time.perf_counter()
-        truth = self._surface
+        truth = self._truth
         origin = np.asarray(origin, dtype=np.float64)
         far = 2.0 * truth.bounding_radius + 2.0 * float(np.linalg.norm(origin - truth.center))
         s = raycast(truth, origin + far * touch.approach, -touch.approach, far)
@@ -277,7 +273,7 @@ class AnalyticBackend(SupportedBackend):
                               start)  # fmt: skip
         if self.noise > 0:
             pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
+                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()
@@ -317,7 +313,7 @@ class AnalyticBackend(SupportedBackend):
         nrm_clean = np.array([e.normal for e in estimates])
         if self.noise > 0:
             pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
+                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()
@@ -331,9 +327,9 @@ class AnalyticBackend(SupportedBackend):
 
     def _stroke(self, first: Array, stroke_angle: float, n_steps: int) -> list[Array]:
         """Contacts after `first` along the planar section of a stroke (see the module doc)."""
-        assert self._surface is not None
+        assert self._truth is not None
         return section_walk(
-            self._surface, first, stroke_angle, n_steps, self.stroke_spacing, self._reachable
+            self._truth, first, stroke_angle, n_steps, self.stroke_spacing, self._reachable
         )[1:]
 
     # ------------------------------------------------------------------ rendering

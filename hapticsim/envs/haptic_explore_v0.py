@@ -22,7 +22,8 @@ from hapticsim.envs.objects import ObjectDistribution, ObjectSet
 from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchBackend, TouchResult, decode_action
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import N_PARAMS, MeshSolid, Superquadric
+from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -41,9 +42,6 @@ BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
-#: Mesh resolution (longitudes) of the estimate in the Chamfer distance to a *mesh* truth
-#: (:class:`hapticsim.metrics.mesh_truth.MeshScorer`); its chords add about 1e-4 m.
-CHAMFER_RESOLUTION: int = 48
 #: Bound of the scaled coordinates in the observation (points, fit); values are clipped to it.
 OBS_BOUND: float = 10.0
 #: Unit sphere directions on which the coverage uncertainty is evaluated.
@@ -68,9 +66,8 @@ class HapticExploreConfig:
             superquadric; fast, same action semantics).
         objects: the object distribution, or one of its kind names (``"paper"``, ``"random"``,
             ``"random_tapered"``); or any object or list of objects (body names, superquadric
-            JSON files, ``random``/``random_tapered``, mesh files, Superquadric or MeshSolid
-            values; :class:`~hapticsim.envs.objects.ObjectSet`), one drawn per episode. A mesh
-            truth is scored by :class:`~hapticsim.metrics.mesh_truth.MeshScorer`.
+            JSON files, union JSON files, ``random``/``random_tapered``, mesh files, or solids:
+            :class:`~hapticsim.envs.objects.ObjectSet`), one drawn per episode.
         touch_budget: touches per episode; the episode is truncated after it.
         max_contacts: size of the observation's contact buffer (later contacts are still fitted
             but not shown).
@@ -101,16 +98,13 @@ class HapticExploreConfig:
             selects. The analytic backend has no hand and ignores it.
         compute_metrics: score the estimate against the truth every step (info); forced on for
             ``reward="epsilon"`` and ``target_epsilon``.
-        metric_samples: samples inside each solid for alpha, beta, epsilon and IoU. A
-            superquadric truth is scored by :class:`hapticsim.metrics.episode.TruthScorer`
-            (scrambled Sobol samples drawn once, so successive scores share them and their
-            difference, the reward, is far less noisy; RMS error of epsilon 0.0032 measured at
-            the default 4096); a mesh truth by :class:`hapticsim.metrics.mesh_truth.MeshScorer`
-            (the same quasi-random samples; RMS error of alpha 0.0025, beta 0.0009 measured on
-            the L-block at 4096).
-        chamfer_samples: surface points per shape of the Chamfer distance (superquadric truth:
-            an evenly spread lattice of directions, area-weighted, exact point-to-surface
-            distances, RMS error 1.2 % at the default 128).
+        metric_samples: samples inside each solid for alpha, beta, epsilon and IoU, scored by
+            :class:`hapticsim.metrics.episode.TruthScorer` (scrambled Sobol samples drawn once,
+            so successive scores share them and their difference, the reward, is far less
+            noisy; RMS error of epsilon 0.0032 measured at the default 4096 for superquadrics).
+        chamfer_samples: surface points per shape of the Chamfer distance (a superquadric: an
+            evenly spread lattice of directions, area-weighted, exact point-to-surface
+            distances, RMS error 1.2 % at the default 128; other solids: area samples).
         width, height: size of rendered pictures [pixels].
         sensing: ``"exact"`` (the backend's exact contacts) or ``"tactile"``: contacts
             estimated from taxel pads on the fingertips (the MuJoCo hand's,
@@ -394,8 +388,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     (``ok``, ``missed``, ``blocked``, ``failed``), ``fit_status`` (``too_few_contacts``, ``full``,
     ``refine``, ``kept``, ``failed``), ``fit_eof`` [m^2], ``fit_evaluations``; ``timings``
     (:class:`StepTimings`: touch, fit, metrics, step [s]);
-    ``estimate`` and ``truth`` (:class:`~hapticsim.geometry.Superquadric`, or a
-    :class:`~hapticsim.geometry.mesh_solid.MeshSolid` for a mesh object; world frame),
+    ``estimate`` (:class:`~hapticsim.geometry.Superquadric`) and ``truth`` (the solid, world
+    frame),
     ``origin`` (rough position [m, world]), ``uncertainty`` (reward ``"uncertainty"`` only).
     All contacts, with fingers, forces [N] (MuJoCo; 0 on the analytic backend), times [s] and
     clean values, are in :attr:`contacts`.
@@ -404,7 +398,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     ``render_mode`` (None or ``"rgb_array"``, offscreen MuJoCo: set ``MUJOCO_GL=egl``) and the
     fields of :class:`HapticExploreConfig` as keywords (or ``config=``).
-    ``reset(options={"shape": Superquadric | MeshSolid})`` explores the given object instead of
+    ``reset(options={"shape": solid})`` explores the given object instead of
     drawing one.
 
     ## Version history
@@ -454,9 +448,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             }
         )
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM,), np.float32)
-        self._truth: Superquadric | MeshSolid | None = None
+        self._truth: Solid | None = None
         self._rough = None
-        self._mesh_scorer = None
         self._truth_scorer = None
         self._origin = np.zeros(3)
         self._clear()
@@ -478,7 +471,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._progress = 1.0  # the quantity whose drop is the reward
 
     @property
-    def truth(self) -> Superquadric | MeshSolid | None:
+    def truth(self) -> Solid | None:
         """The ground truth of the episode (world frame), privileged."""
         return self._truth
 
@@ -535,10 +528,10 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         shape = options.get("shape")
         if shape is None:
             shape = self.config.objects.sample(self.np_random)
-        elif not isinstance(shape, (Superquadric, MeshSolid)):
+        elif not isinstance(shape, Solid):
             raise InvalidInputError(
-                "`options['shape']` must be a Superquadric or a MeshSolid, got "
-                f"{type(shape).__name__}"
+                "`options['shape']` must be a solid (Superquadric, SuperquadricUnion or "
+                f"MeshSolid), got {type(shape).__name__}"
             )
         self._clear()
         self._fitter.reset()
@@ -551,14 +544,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._rough = rough.moved(rough.center + error)
         self._truth = self._backend.reset(shape, self.np_random, rough=self._rough)
         self._origin = self._rough.center.copy()
-        self._mesh_scorer = None
-        if isinstance(shape, MeshSolid):
-            from hapticsim.metrics.mesh_truth import MeshScorer
-
-            self._mesh_scorer = MeshScorer(
-                shape, self.config.metric_samples, self.config.chamfer_samples,
-                resolution=CHAMFER_RESOLUTION,
-            )  # fmt: skip
         info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
         return self._observation(), info
 
@@ -623,9 +608,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             return _NO_FIT_METRICS.copy()
         if estimate is self._scored:  # kept estimate: same score
             return dict(self._metrics)
-        if self._mesh_scorer is not None:  # a mesh truth
-            self._scored = estimate
-            return self._mesh_scorer(estimate)
         self._scored = estimate
         return self._scorer().score(estimate).to_dict()
 

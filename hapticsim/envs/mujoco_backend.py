@@ -33,13 +33,13 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
 from hapticsim.data.noise import add_noise
-from hapticsim.data.objects import truth_size
 from hapticsim.envs.analytic import section_walk, stroke_plane
 from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
+from hapticsim.geometry.solid import Solid
 from hapticsim.sim.rough import RoughObject
 
 Array = NDArray[np.float64]
@@ -104,7 +104,7 @@ class MujocoBackend(SupportedBackend):
         self._scenes = SceneCache()
         #: planning scenes of the rough objects (a primitive resized in place every episode).
         self._planning = PlanningSceneCache()
-        self._truth: Superquadric | None = None
+        self._truth: Solid | None = None
         self._rng: np.random.Generator | None = None
         self._explorer = None
         self._support: Support | None = None
@@ -128,8 +128,8 @@ class MujocoBackend(SupportedBackend):
 
     # ------------------------------------------------------------------ episode
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, rough: RoughObject | None = None
-    ) -> Superquadric:
+        self, shape: Solid, rng: np.random.Generator, rough: RoughObject | None = None
+    ) -> Solid:
         """Build the scene for `shape` (placed as given, on a stand above the table).
 
         Args:
@@ -215,7 +215,7 @@ class MujocoBackend(SupportedBackend):
         pts_clean, nrm_clean = new["points_clean"], new["normals_clean"]
         if self.noise > 0:
             pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, truth_size(self._truth), self._rng
+                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
             )
         else:
             pts, nrm = pts_clean.copy(), nrm_clean.copy()

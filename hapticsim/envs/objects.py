@@ -3,10 +3,10 @@
 - :class:`ObjectDistribution`: the paper's bodies, or random superquadrics (tapered or not)
   drawn from ranges;
 - :class:`ObjectSet`: a list of objects of any kind (:mod:`hapticsim.data.objects`: body names,
-  superquadric JSON files, ``random``/``random_tapered``, mesh files, or ready
-  :class:`~hapticsim.geometry.Superquadric` / :class:`~hapticsim.geometry.mesh_solid.MeshSolid`
-  values), one drawn uniformly per episode. Files are read (and meshes checked) once, when the
-  set is made; random entries are drawn from the episode's generator.
+  superquadric and union JSON files, ``random``/``random_tapered``, mesh files, or ready
+  solids: :class:`~hapticsim.geometry.solid.Solid`), one drawn uniformly per episode. Files
+  are read (and meshes checked) once, when the set is made; random entries are drawn from the
+  episode's generator.
 
 :func:`coerce_objects` turns what the environment's ``objects=`` accepts into one of them.
 """
@@ -24,7 +24,7 @@ from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
 from hapticsim.data.objects import ObjectSpec, as_spec, random_superquadric
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
-from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 
 #: Kinds of object distributions.
 OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered")
@@ -121,7 +121,7 @@ class ObjectSet:
 
     Attributes:
         items: the objects: specs (:class:`~hapticsim.data.objects.ObjectSpec`, or a name or
-            path turned into one) or ready superquadrics and mesh solids. Fixed objects are
+            path turned into one) or ready solids. Fixed objects are
             resolved (files read, meshes checked) on construction; ``random`` and
             ``random_tapered`` entries are drawn anew each time they come up.
 
@@ -130,21 +130,21 @@ class ObjectSet:
     """
 
     items: tuple[Any, ...]
-    _resolved: tuple[Superquadric | MeshSolid | ObjectSpec, ...] = field(init=False, repr=False)
+    _resolved: tuple[Solid | ObjectSpec, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         items = tuple(self.items)
         if not items:
             raise InvalidInputError("`objects` must hold at least one object, got an empty list")
-        resolved: list[Superquadric | MeshSolid | ObjectSpec] = []
+        resolved: list[Solid | ObjectSpec] = []
         for k, item in enumerate(items):
-            if isinstance(item, (Superquadric, MeshSolid)):
+            if isinstance(item, Solid):
                 resolved.append(item)
                 continue
             if not isinstance(item, (ObjectSpec, str, Path)):
                 raise InvalidInputError(
-                    f"`objects[{k}]` must be a name, a path, an ObjectSpec, a Superquadric or a "
-                    f"MeshSolid, got {type(item).__name__}"
+                    f"`objects[{k}]` must be a name, a path, an ObjectSpec or a solid "
+                    f"(Superquadric, SuperquadricUnion, MeshSolid), got {type(item).__name__}"
                 )
             spec = as_spec(item)
             resolved.append(spec if spec.is_random else spec.resolve())
@@ -154,7 +154,7 @@ class ObjectSet:
     def __len__(self) -> int:
         return len(self._resolved)
 
-    def sample(self, rng: np.random.Generator) -> Superquadric | MeshSolid:
+    def sample(self, rng: np.random.Generator) -> Solid:
         """Draw one object (uniformly; a random entry then draws its shape from `rng`)."""
         item = self._resolved[int(rng.integers(len(self._resolved)))]
         return item.resolve(rng) if isinstance(item, ObjectSpec) else item
@@ -166,8 +166,8 @@ def coerce_objects(value: Any) -> ObjectDistribution | ObjectSet:
     Args:
         value: an :class:`ObjectDistribution` or :class:`ObjectSet` (as they are); a kind name
             (:data:`OBJECT_KINDS`: ``"paper"``, ``"random"``, ``"random_tapered"``); any other
-            single object (a body name, a file path, an ObjectSpec, a Superquadric or a
-            MeshSolid); or a list or tuple of objects.
+            single object (a body name, a file path, an ObjectSpec or a solid); or a list or
+            tuple of objects.
 
     Raises:
         InvalidInputError: naming what was not understood.
@@ -176,13 +176,13 @@ def coerce_objects(value: Any) -> ObjectDistribution | ObjectSet:
         return value
     if isinstance(value, str) and value in OBJECT_KINDS:
         return ObjectDistribution(kind=value)
-    if isinstance(value, (str, Path, ObjectSpec, Superquadric, MeshSolid)):
+    if isinstance(value, (str, Path, ObjectSpec, Solid)):
         return ObjectSet((value,))
     if isinstance(value, Sequence) and not isinstance(value, (bytes, bytearray)):
         return ObjectSet(tuple(value))
     raise InvalidInputError(
         f"`objects` must be an ObjectDistribution, one of {OBJECT_KINDS}, an object (name, file, "
-        f"ObjectSpec, Superquadric, MeshSolid) or a list of objects, got {value!r}"
+        f"ObjectSpec, solid) or a list of objects, got {value!r}"
     )
 
 

@@ -10,8 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.envs.support import Support
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 from hapticsim.sim.render import (  # noqa: F401  (contacts are drawn as the sim draws them)
     CONTACT_RADIUS,
     CONTACT_RGBA,
@@ -28,14 +27,14 @@ TABLE_RGBA = (0.55, 0.45, 0.35, 1.0)
 STAND_HEIGHT = 0.06
 
 
-def _add_mesh(spec, name: str, shape: Superquadric | MeshSolid, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
+def _add_mesh(spec, name: str, shape: Solid, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
     import mujoco
 
-    mesh = shape if isinstance(shape, MeshSolid) else shape.to_mesh(resolution=40)
+    vertices, faces = shape.surface_mesh(40)
     spec.add_mesh(
         name=name,
-        uservert=np.asarray(mesh.vertices).ravel().tolist(),
-        userface=np.asarray(mesh.faces).ravel().tolist(),
+        uservert=np.asarray(vertices).ravel().tolist(),
+        userface=np.asarray(faces).ravel().tolist(),
     )
     spec.worldbody.add_geom(
         type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, rgba=list(rgba), contype=0, conaffinity=0
@@ -58,7 +57,7 @@ class SceneRenderer:
         self._renderer = None
 
     def _build(
-        self, truth: Superquadric, estimate: Superquadric | None, support: Support | None
+        self, truth: Solid, estimate: Solid | None, support: Support | None
     ) -> None:
         import mujoco
 
@@ -92,8 +91,8 @@ class SceneRenderer:
 
     def render(
         self,
-        truth: Superquadric,
-        estimate: Superquadric | None,
+        truth: Solid,
+        estimate: Solid | None,
         points: Array,
         support: Support | None = None,
     ) -> NDArray[np.uint8]:

@@ -15,8 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -51,25 +50,16 @@ class Support:
         object.__setattr__(self, "foot", np.asarray(self.foot, dtype=np.float64).reshape(3))
 
     @classmethod
-    def under(cls, shape: Superquadric | MeshSolid, kind: str = "stand") -> Support:
-        """The support of `shape` as the MuJoCo scene builds it (lowest point nearest the centre,
-        found on a dense surface sample to about 0.1 mm); for a mesh solid, the scene's own rule
-        (:func:`hapticsim.sim.object_mesh.support_foot`)."""
-        if isinstance(shape, MeshSolid):
-            from hapticsim.sim.object_mesh import support_foot, support_radius
+    def under(cls, shape: Solid, kind: str = "stand") -> Support:
+        """The support of `shape` by the MuJoCo scene's rule
+        (:func:`hapticsim.sim.object_mesh.support_foot`), on the solid's dense surface points
+        (:meth:`~hapticsim.geometry.solid.Solid.support_points`: a superquadric's 91 x 181 grid
+        of angles, about 0.1 mm apart, rather than its collision vertices) and at the lowest
+        height."""
+        from hapticsim.sim.object_mesh import support_foot, support_radius
 
-            foot = support_foot(shape, np.asarray(shape.vertices))
-            return cls(kind, foot, support_radius(shape, STAND_RADIUS))
-        eta = np.linspace(-np.pi / 2, np.pi / 2, 91)
-        omega = np.linspace(-np.pi, np.pi, 181)
-        ee, oo = np.meshgrid(eta, omega)
-        pts, _ = shape.surface(ee.ravel(), oo.ravel())
-        low_z = float(pts[:, 2].min())
-        low = pts[pts[:, 2] < low_z + 1e-3]
-        foot = low[np.argmin(np.linalg.norm(low[:, :2] - shape.center[:2], axis=1))].copy()
-        foot[2] = low_z
-        radius = min(STAND_RADIUS, 0.3 * float(np.min(shape.a[:2])))
-        return cls(kind, foot, radius)
+        foot = support_foot(shape, shape.support_points(), level=True)
+        return cls(kind, foot, support_radius(shape, STAND_RADIUS))
 
     def blocks(self, point: Array) -> bool:
         """True when a fingertip touching `point` (3,) [m, world] would hit the support."""

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_array
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -263,8 +264,8 @@ class TouchBackend(Protocol):
     n_fingers: int
 
     def reset(
-        self, shape: Superquadric, rng: np.random.Generator, rough: Any = None
-    ) -> Superquadric:
+        self, shape: Solid, rng: np.random.Generator, rough: Any = None
+    ) -> Solid:
         """Start an episode on `shape`; return the ground truth in the backend's world frame.
 
         `rough` (:class:`hapticsim.sim.rough.RoughObject`) is what the planner knows: the vision

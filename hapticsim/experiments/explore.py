@@ -23,7 +23,8 @@ output directory:
   ``pad_position`` (touches, pads, 3) [m] and ``pad_rotation`` (touches, pads, 3, 3) of the pads'
   carriers, ``taxel_position``/``taxel_normal`` (pads, rows, cols, 3) and ``taxel_area`` in the
   carriers' frames, ``time`` (touches,) [s] and ``skin`` (the preset as JSON);
-- ``truth.json`` (superquadric) or, for a mesh object, ``truth.stl`` (world frame, metres);
+- ``truth.json`` (a superquadric, SPEC §6, or a union, SPEC §10) or, for a mesh object,
+  ``truth.stl`` (world frame, metres);
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
   estimate, contacts with normals) and, with ``render=True``, ``scene.png`` (MuJoCo's
@@ -178,7 +179,7 @@ def _explore(
 
     from hapticsim.data.io import FREE_SPACE_KEY
     from hapticsim.data.noise import add_noise
-    from hapticsim.data.objects import stl_bytes, truth_size
+    from hapticsim.data.objects import truth_file as truth_file_of
     from hapticsim.experiments.explore_report import (
         exploration_figure_png,
         png_bytes,
@@ -186,7 +187,7 @@ def _explore(
     from hapticsim.fitting import fit
     from hapticsim.fitting.methods import uses_normals
     from hapticsim.fitting.ml import MLOptions
-    from hapticsim.geometry.mesh_solid import MeshSolid
+    from hapticsim.geometry import Superquadric
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
     from hapticsim.sim.free_space import near_contacts
@@ -195,7 +196,6 @@ def _explore(
 
     start = time.perf_counter()
     object_name = spec.name
-    is_mesh = isinstance(truth, MeshSolid)
     seeds = np.random.SeedSequence(seed).spawn(3)
     sim_rng, noise_rng = (np.random.default_rng(s) for s in seeds[:2])
     fit_seed = int(seeds[2].generate_state(1)[0])
@@ -235,7 +235,7 @@ def _explore(
         a = run.arrays
         tactile = scene_config.sensing == "tactile"
         points, normals = add_noise(
-            a["points_clean"], a["normals_clean"], sigma, truth_size(truth), noise_rng
+            a["points_clean"], a["normals_clean"], sigma, truth.size, noise_rng
         )
         bar.set_postfix_str("fitting")
         # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of
@@ -253,13 +253,13 @@ def _explore(
         accuracy_exact = (
             contact_accuracy(truth, a["points_exact"], a["normals_exact"]) if tactile else None
         )
-        th = (  # theta needs the EOF of the true superquadric: undefined for a mesh truth
-            None
-            if is_mesh
-            else float(theta(result.superquadric, truth, points,
-                             normals if uses_normals(method) else None))
+        th = (  # theta needs the EOF of the true superquadric: undefined for other solids
+            float(theta(result.superquadric, truth, points,
+                        normals if uses_normals(method) else None))
+            if isinstance(truth, Superquadric)
+            else None
         )  # fmt: skip
-        truth_file = ("truth.stl", stl_bytes(truth)) if is_mesh else None
+        truth_file = truth_file_of(truth)
         sensed = f", {scene_config.skin.name} skin" if tactile else ""
         report = exploration_figure_png(
             truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
@@ -284,7 +284,7 @@ def _explore(
         "strategy": strategy,
         "object": object_name,
         "object_spec": spec.to_dict(),
-        "truth": "truth.stl" if is_mesh else "truth.json",
+        "truth": truth_file[0],
         "hand": hand_name,
         "seed": seed,
         "vision": run.rough.to_dict(),
@@ -316,7 +316,7 @@ def _explore(
     extra["sensing"] = np.array(scene_config.sensing)
     tactile_file = _tactile_file(run, scene_config.skin) if tactile else None
     with OutputSet():  # all files or none, even on Ctrl-C
-        files = _write_outputs(out, points, normals, extra, truth, truth_file, result, metrics,
+        files = _write_outputs(out, points, normals, extra, truth_file, result, metrics,
                                report, picture, video_config, tactile_file)  # fmt: skip
     return {
         "out_dir": str(out),
@@ -387,7 +387,7 @@ def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
 
 
 def _write_outputs(
-    out: Path, points: Any, normals: Any, extra: dict[str, Any], truth: Any, truth_file: Any,
+    out: Path, points: Any, normals: Any, extra: dict[str, Any], truth_file: tuple[str, bytes],
     result: Any, metrics: dict[str, Any], report: bytes, picture: dict[str, bytes],
     video_config: Any, tactile_file: bytes | None = None,
 ) -> dict[str, Path]:  # fmt: skip
@@ -397,11 +397,7 @@ def _write_outputs(
 
     files = {
         "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
-        "truth": (
-            write_bytes_atomic(out / truth_file[0], truth_file[1])
-            if truth_file is not None
-            else write_json(out / "truth.json", truth.to_dict())
-        ),
+        "truth": write_bytes_atomic(out / truth_file[0], truth_file[1]),
         "fit": write_json(out / "fit.json", result.to_dict()),
         "metrics": write_json(out / "metrics.json", metrics),
         "report": write_bytes_atomic(out / "report.png", report),

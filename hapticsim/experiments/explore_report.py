@@ -9,8 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -19,28 +18,22 @@ FINGER_COLORS: tuple[str, ...] = ("tab:green", "tab:red", "tab:purple", "tab:bro
 FINGER_LABELS: tuple[str, ...] = ("thumb", "index", "middle", "ring")
 
 
-def _surface(
-    ax: Any, shape: Superquadric | MeshSolid, color: str, alpha: float, resolution: int = 40
-) -> None:
-    if isinstance(shape, MeshSolid):
-        v, faces = np.asarray(shape.vertices) * 1000.0, np.asarray(shape.faces)
-    else:
-        mesh = shape.to_mesh(resolution)
-        v, faces = mesh.vertices * 1000.0, mesh.faces
+def _surface(ax: Any, shape: Solid, color: str, alpha: float, resolution: int = 40) -> None:
+    v, faces = shape.surface_mesh(resolution)
+    v, faces = np.asarray(v) * 1000.0, np.asarray(faces)
     ax.plot_trisurf(v[:, 0], v[:, 1], v[:, 2], triangles=faces, color=color, alpha=alpha,
                     linewidth=0.0, shade=True)  # fmt: skip
 
 
-def _half_width(truth: Superquadric | MeshSolid) -> float:
-    """Half the side [mm] of the cube the panels show around the truth."""
-    if isinstance(truth, MeshSolid):
-        return max(float(np.max(np.ptp(truth.bounds, axis=0))) * 500.0 * 1.15, 10.0)
-    return max(float(np.max(truth.a * (1 + np.r_[np.abs(truth.taper), 0.0]))) * 1000.0, 10.0)
+def _half_width(truth: Solid) -> float:
+    """Half the side [mm] of the cube the panels show around the truth: half its box's
+    largest side, 15 % more."""
+    return max(float(np.max(np.ptp(truth.bounds, axis=0))) * 500.0 * 1.15, 10.0)
 
 
 def exploration_figure_png(
-    truth: Superquadric | MeshSolid,
-    estimate: Superquadric | None,
+    truth: Solid,
+    estimate: Solid | None,
     points_world: Array,
     normals_world: Array,
     finger: NDArray[np.int64],
@@ -53,7 +46,7 @@ def exploration_figure_png(
     Lengths in millimetres.
 
     Args:
-        truth: the true object (a superquadric or a mesh solid).
+        truth: the true object (any solid).
         estimate: the fitted superquadric, or None.
         points_world: (n, 3) float, contact points [m].
         normals_world: (n, 3) float, outward unit normals.

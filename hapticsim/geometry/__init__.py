@@ -1,7 +1,10 @@
-"""Superquadric geometry: the model, its functions, parametrisations, volumes and meshes, and
-:class:`MeshSolid`, the solid of a closed triangle mesh (a mesh ground truth).
+"""Solids and their geometry: the :class:`Solid` interface every object is (SPEC §10), and its
+kinds: the :class:`Superquadric` (the model, its functions, parametrisations, volumes, meshes
+and sampling), the :class:`SuperquadricUnion` and the :class:`MeshSolid` (a closed triangle
+mesh); ray casting, the EOF and its compiled kernels.
 
-The bottom layer of hapticsim: depends on numpy only (trimesh is imported lazily for meshes).
+The bottom layer of hapticsim: depends on numpy (scipy, trimesh, manifold3d and coacd are
+imported lazily where a method needs them).
 """
 
 from hapticsim.geometry.functions import (
@@ -21,13 +24,18 @@ from hapticsim.geometry.rotations import (
     random_rotation,
     rotvec_to_matrix,
 )
+from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.geometry.solid_io import solid_from_dict, solid_from_json
 from hapticsim.geometry.superquadric import N_PARAMS, PARAM_NAMES, Superquadric
+from hapticsim.geometry.union import SuperquadricUnion
 
 __all__ = [
     "MeshSolid",
     "N_PARAMS",
     "PARAM_NAMES",
+    "Solid",
     "Superquadric",
+    "SuperquadricUnion",
     "inside_outside",
     "log_inside_outside",
     "matrix_to_quaternion",
@@ -39,6 +47,9 @@ __all__ = [
     "random_rotation",
     "rotvec_to_matrix",
     "signed_power",
+    "solid_arg",
+    "solid_from_dict",
+    "solid_from_json",
     "uniform",
     "volume",
 ]

@@ -1,8 +1,12 @@
-"""Triangle meshes of superquadrics (trimesh)."""
+"""Triangle meshes of superquadrics (trimesh).
+
+The functions take a superquadric (anything with its fields ``a``, ``eps``, ``taper``,
+``rotation``, ``center``) without importing its class, which meshes itself through them.
+"""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -12,8 +16,6 @@ from hapticsim.geometry.parametrization import parametrize
 
 if TYPE_CHECKING:
     import trimesh
-
-    from hapticsim.geometry.superquadric import Superquadric
 
 
 def sphere_grid_faces(n_lat: int, n_lon: int) -> np.ndarray:
@@ -43,7 +45,7 @@ def sphere_grid_faces(n_lat: int, n_lon: int) -> np.ndarray:
 
 
 def surface_grid(
-    sq: Superquadric, resolution: int = 64, parametrization: str = "uniform"
+    sq: Any, resolution: int = 64, parametrization: str = "uniform"
 ) -> tuple[np.ndarray, np.ndarray]:
     """Vertices and faces of :func:`superquadric_mesh` as arrays, without building a mesh.
 
@@ -66,7 +68,7 @@ def surface_grid(
 
 
 def superquadric_mesh(
-    sq: Superquadric, resolution: int = 64, parametrization: str = "uniform"
+    sq: Any, resolution: int = 64, parametrization: str = "uniform"
 ) -> trimesh.Trimesh:
     """A watertight, outward-oriented triangle mesh of a superquadric in the world frame.
 

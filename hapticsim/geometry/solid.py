@@ -44,6 +44,8 @@ class Solid(ABC):
 
     #: Short name of the kind: ``"superquadric"``, ``"union"`` or ``"mesh"``.
     kind: ClassVar[str] = ""
+    #: What :meth:`contact_errors` measures against (stated in contact-accuracy reports).
+    contact_reference: ClassVar[str] = ""
 
     # ----------------------------------------------------------------- membership
     @abstractmethod
@@ -83,11 +85,52 @@ class Solid(ABC):
         """`count` points uniform by area on the surface (count, 3) [m, world] and their
         outward unit normals (count, 3)."""
 
-    @abstractmethod
     def quasi_interior(self, samples: int, gen: np.random.Generator) -> Array:
         """About `samples` points uniform inside the solid from a scrambled Sobol sequence
         seeded by `gen`, (k, 3) [m, world]: the per-step scorer's fixed interior sample of a
-        truth (:class:`hapticsim.metrics.episode.Scorer`)."""
+        truth (:class:`hapticsim.metrics.episode.TruthScorer`). Default: the points of the
+        sequence in :attr:`bounds` (the first ``samples / fill`` of them) that it contains."""
+        from hapticsim.geometry.sampling import sobol_points
+
+        lo, hi = self.bounds
+        count = int(np.ceil(samples * float(np.prod(hi - lo)) / self.volume))
+        candidates = lo + sobol_points(3, count, gen)[:count] * (hi - lo)
+        return candidates[self.contains(candidates)]
+
+    # ----------------------------------------------------------------- the per-step scorer
+    # (hapticsim.metrics.episode.TruthScorer): fixed samples, counted fast where a kind can
+
+    def interior_from_candidates(
+        self, candidates: tuple[Array, Array, Array], samples: int
+    ) -> Array:
+        """About `samples` points inside, (3, k) [m, world], from the scorer's fixed
+        quasi-random candidates (:func:`hapticsim.geometry.sampling.quasi_random_candidates`;
+        default: :meth:`quasi_interior` with a fixed seed, the candidates unused)."""
+        return np.ascontiguousarray(self.quasi_interior(samples, np.random.default_rng(0)).T)
+
+    def count_outside(self, points: Array) -> int:
+        """How many of the points (3, n) [m, world] lie strictly outside."""
+        return int(np.count_nonzero(self.outside(np.asarray(points).T)))
+
+    def count_outside_of(
+        self, other: Solid, candidates: tuple[Array, Array, Array], samples: int
+    ) -> tuple[int, int]:
+        """``(outside, kept)``: of `other`'s interior sample from the candidates
+        (:meth:`interior_from_candidates`), how many lie outside this solid, and how many it
+        has."""
+        points = other.interior_from_candidates(candidates, samples)
+        return self.count_outside(points), int(points.shape[1])
+
+    def lattice_surface(self, directions: Array) -> tuple[Array, Array] | None:
+        """Surface points (3, K) [m, world] on fixed unit `directions` (3, K) from the centre,
+        with their area weights, for a solid whose surface meets every such ray once; None
+        (default) where it does not: the scorer samples its surface instead."""
+        return None
+
+    def foot_distances(self, points: Array) -> Array:
+        """(K,) distances [m] of points (3, K) to the surface (default
+        :meth:`surface_distance`)."""
+        return self.surface_distance(np.asarray(points).T)
 
     # ----------------------------------------------------------------- rays
     def first_hits(
@@ -123,10 +166,10 @@ class Solid(ABC):
     def volume(self) -> float:
         """Exact volume [m^3]."""
 
-    @property
-    @abstractmethod
-    def center(self) -> Array:
-        """(3,) float, the solid's reference point [m, world]."""
+    #: (3,) float, the solid's reference point [m, world] (a superquadric's centre, a mesh's
+    #: centroid, a union's volume-weighted centre of its parts): an attribute or a property of
+    #: every kind.
+    center: Array
 
     @property
     @abstractmethod
@@ -169,9 +212,10 @@ class Solid(ABC):
 
     @property
     def pose(self) -> tuple[Array, Array]:
-        """The rotation (3, 3) and position (3,) of the frame :meth:`shape_key` is taken in
-        (default: the world's)."""
-        return np.eye(3), np.zeros(3)
+        """The rotation (3, 3) and position (3,) of the body frame of :meth:`convex_pieces`
+        (default: the world's axes at :attr:`center`). Two solids with equal
+        :meth:`shape_key` are the same shape in this frame: equal poses, the same solid."""
+        return np.eye(3), np.asarray(self.center, dtype=np.float64)
 
     @abstractmethod
     def shape_key(self) -> bytes:
@@ -184,9 +228,15 @@ class Solid(ABC):
 
     def lowest_on_vertical(self, xy: Array) -> float | None:
         """Height [m] of the lowest surface point on the vertical line through `xy` (2,), or
-        None where a kind does not say (the stand's foot then goes to the lowest collision
-        vertex nearest the centre)."""
+        None where a kind does not say (the stand's foot then goes to the lowest of
+        :meth:`support_points` nearest the centre)."""
         return None
+
+    def support_points(self) -> Array:
+        """(n, 3) float, surface points [m, world] the stand's foot is chosen among where
+        :meth:`lowest_on_vertical` says nothing (default: :meth:`surface_mesh`'s vertices at
+        64 longitudes)."""
+        return np.asarray(self.surface_mesh(64)[0], dtype=np.float64)
 
     # ----------------------------------------------------------------- files
     @abstractmethod

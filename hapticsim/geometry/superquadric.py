@@ -39,6 +39,7 @@ from hapticsim.geometry.rotations import (
     quaternion_to_matrix,
     rotvec_to_matrix,
 )
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -69,7 +70,7 @@ def _frozen(arr: Array) -> Array:
 
 
 @dataclass(frozen=True, eq=False)
-class Superquadric:
+class Superquadric(Solid):
     """A superquadric in the world: ``x = R D_t(chi(eta, omega)) + x0`` (paper eqs. 1-2).
 
     Attributes:
@@ -80,8 +81,12 @@ class Superquadric:
         rotation: (3, 3) float, R, body axes as columns in the world frame.
         center: (3,) float, x0, body origin in the world [m].
 
-    Instances are immutable and validated on construction; arrays are read-only.
+    Instances are immutable and validated on construction; arrays are read-only. A
+    :class:`~hapticsim.geometry.solid.Solid` (kind ``"superquadric"``).
     """
+
+    kind = "superquadric"
+    contact_reference = "analytic superquadric surface and normal"
 
     a: Array
     eps: Array
@@ -274,6 +279,14 @@ class Superquadric:
         """(n,) bool, True for world points inside or on the solid."""
         return self.inside_outside(points_world) <= 1.0
 
+    def log_inside_outside(self, points_world: Array) -> Array:
+        """(n,) float, log F of world points (< 0 inside)."""
+        return fn.log_inside_outside(self._sym(points_world), self.a, self.eps)
+
+    def outside(self, points_world: Array) -> NDArray[np.bool_]:
+        """(n,) bool, True strictly outside (``log F > 0``: the volume measures' test)."""
+        return self.log_inside_outside(points_world) > 0.0
+
     def radial_distance(self, points_world: Array) -> Array:
         """(n,) float, the radial distance D1 of SPEC §2 [m] (untapered body frame)."""
         return fn.radial_distance(self._sym(points_world), self.a, self.eps)
@@ -327,12 +340,222 @@ class Superquadric:
         return fn.volume(self.a, self.eps, self.taper)
 
     @property
+    def _half_box(self) -> Array:
+        """(3,) float, half-extents of a body-frame box holding the tapered solid [m]."""
+        # |x| <= a1 (1 + |tx|) etc. on the tapered body.
+        return self.a * np.array([1 + abs(self.taper[0]), 1 + abs(self.taper[1]), 1])
+
+    @property
     def bounding_radius(self) -> float:
         """Radius [m] of a sphere about ``center`` that contains the solid."""
-        # |x| <= a1 (1 + |tx|) etc. on the tapered body.
-        return float(
-            np.linalg.norm(self.a * np.array([1 + abs(self.taper[0]), 1 + abs(self.taper[1]), 1]))
+        return float(np.linalg.norm(self._half_box))
+
+    @property
+    def bounds(self) -> Array:
+        """(2, 3) float, a world-axis box holding the solid (its body box, posed) [m]."""
+        half = np.abs(self.rotation) @ self._half_box
+        return np.stack([self.center - half, self.center + half])
+
+    @property
+    def size(self) -> float:
+        """``mean(a)`` [m], SPEC §5's noise scale."""
+        return float(np.mean(self.a))
+
+    @property
+    def surface_area(self) -> float:
+        """Surface area [m^2] of its fine mesh (:class:`~hapticsim.geometry.sampling.
+        SurfaceMesh`, 96 longitudes: a little less than the exact area)."""
+        from hapticsim.geometry.sampling import DEFAULT_MESH_RESOLUTION, surface_mesh_of
+
+        return surface_mesh_of(self, DEFAULT_MESH_RESOLUTION).area
+
+    # ----------------------------------------------------------------- Solid: sampling
+    def sample_interior(self, count: int, rng: np.random.Generator | int | None = None) -> Array:
+        """(count, 3) float, points uniform inside (rejection sampling,
+        :func:`~hapticsim.geometry.sampling.superquadric_interior`) [m, world]."""
+        from hapticsim.geometry.sampling import superquadric_interior
+
+        return superquadric_interior(self, count, rng)
+
+    def interior_from_unit(self, u: Array) -> Array:
+        """The points the rejection sampler keeps of candidates `u` (k, 4) in [0, 1): the first
+        three coordinates in the cube of scaled untapered coordinates, the fourth the taper's
+        acceptance, (j, 3) [m, world]."""
+        from hapticsim.geometry.sampling import max_taper_jacobian
+
+        u = np.asarray(u, dtype=np.float64)
+        unit = 2.0 * u[:, :3] - 1.0
+        keep = fn.log_inside_outside(unit, np.ones(3), self.eps) < 0.0
+        top = max_taper_jacobian(self.taper)
+        jac = (1.0 + self.taper[0] * unit[:, 2]) * (1.0 + self.taper[1] * unit[:, 2])
+        keep &= u[:, 3] * top < jac
+        body = fn.apply_taper(unit[keep] * self.a, self.a, self.taper)
+        return fn.body_to_world(body, self.rotation, self.center)
+
+    def sample_surface(
+        self, count: int, rng: np.random.Generator | int | None = None, resolution: int = 96
+    ) -> tuple[Array, Array]:
+        """`count` points uniform by area on the surface (random points on the triangles of its
+        fine mesh, moved radially onto the exact surface) and their outward normals."""
+        from hapticsim._validate import as_generator, positive_int
+        from hapticsim.geometry.sampling import surface_mesh_of
+
+        n = positive_int(count, "count")
+        points = surface_mesh_of(self, resolution).sample(n, as_generator(rng))
+        return points, self.normals(points)
+
+    def quasi_interior(self, samples: int, gen: np.random.Generator) -> Array:
+        """About `samples` points inside from scrambled Sobol candidates, as many as its own
+        acceptance needs (:func:`~hapticsim.geometry.sampling.interior_from_candidates`),
+        (k, 3) [m, world]."""
+        from hapticsim.geometry.sampling import (
+            CANDIDATES_PER_SAMPLE,
+            candidate_count,
+            interior_from_candidates,
+            max_taper_jacobian,
+            quasi_random_candidates,
         )
+
+        need = candidate_count(self, max_taper_jacobian(self.taper), samples, None)
+        candidates = quasi_random_candidates(min(need, CANDIDATES_PER_SAMPLE * samples), gen)
+        return interior_from_candidates(candidates, self, samples).T
+
+    # ----------------------------------------------------------------- Solid: the scorer
+    def interior_from_candidates(
+        self, candidates: tuple[Array, Array, Array], samples: int
+    ) -> Array:
+        """What the rejection sampler keeps of the first ``samples / acceptance`` candidates
+        (:func:`~hapticsim.geometry.sampling.interior_from_candidates`), (3, k) [m, world]."""
+        from hapticsim.geometry.sampling import interior_from_candidates
+
+        return interior_from_candidates(candidates, self, samples)
+
+    def count_outside(self, points: Array) -> int:
+        """How many of the points (3, n) lie strictly outside, compiled."""
+        from hapticsim.geometry import _sampling_compiled as kernel
+
+        return int(kernel.count_outside(np.ascontiguousarray(points), *kernel.unpack(self)))
+
+    def count_outside_of(
+        self, other: Solid, candidates: tuple[Array, Array, Array], samples: int
+    ) -> tuple[int, int]:
+        """Another superquadric's candidates sampled and tested here in one compiled pass
+        (:func:`hapticsim.geometry._sampling_compiled.interior_outside`); other solids as the
+        base class does."""
+        if not isinstance(other, Superquadric):
+            return super().count_outside_of(other, candidates, samples)
+        from hapticsim.geometry import _sampling_compiled as kernel
+        from hapticsim.geometry.sampling import candidate_count, max_taper_jacobian
+
+        unit, log_unit, accept = candidates
+        top = max_taper_jacobian(other.taper)
+        count = candidate_count(other, top, samples, accept.shape[0])
+        outside, kept = kernel.interior_outside(
+            unit, log_unit, accept, top, count, *kernel.unpack(other), *kernel.unpack(self)
+        )
+        return int(outside), int(kept)
+
+    def lattice_surface(self, directions: Array) -> tuple[Array, Array]:
+        """The surface point on each ray from the centre (a superquadric meets each once) and
+        its area weight (:func:`hapticsim.geometry._sampling_compiled.surface_sample`)."""
+        from hapticsim.geometry import _sampling_compiled as kernel
+        from hapticsim.geometry.sampling import AREA_STEP
+
+        count = directions.shape[1]
+        points, weights = np.empty((3, count)), np.empty(count)
+        kernel.surface_sample(directions, AREA_STEP, *kernel.unpack(self), points, weights)
+        return points, weights
+
+    def foot_distances(self, points: Array) -> Array:
+        """Exact distances to the surface by foot-point iteration, compiled
+        (:func:`hapticsim.geometry._sampling_compiled.surface_distances`)."""
+        from hapticsim.geometry import _sampling_compiled as kernel
+        from hapticsim.geometry.sampling import FOOT_ITERATIONS
+
+        out = np.empty(points.shape[1])
+        kernel.surface_distances(np.ascontiguousarray(points), *kernel.unpack(self),
+                                 FOOT_ITERATIONS, out)  # fmt: skip
+        return out
+
+    # ----------------------------------------------------------------- Solid: surface
+    def surface_distance(self, points_world: Array, resolution: int = 96) -> Array:
+        """(n,) distances [m] to its fine mesh (vertices on the surface; the chords add a few
+        1e-5 m at 96 longitudes)."""
+        from hapticsim.geometry.sampling import surface_mesh_of
+
+        p = finite_array(points_world, "points_world", (None, 3))
+        return surface_mesh_of(self, resolution).distance(p)
+
+    def contact_errors(self, points_world: Array, normals_world: Array) -> tuple[Array, Array]:
+        """Distance [m] of contacts to the surface, ``|(p - q) . n(q)|`` with q the radial
+        projection (the Euclidean distance to first order: exact on flat faces, error
+        ``|p - q|^2 * curvature`` elsewhere, under 1e-8 m within 0.1 mm), and the angle [deg]
+        of their normals against the outward normal at q."""
+        from hapticsim._validate import normals_array, points_array
+
+        p = points_array(points_world, "points_world", min_count=1)
+        n = normals_array(normals_world, len(p), "normals_world")
+        q = self.project(p)
+        nq = self.normals(q)
+        distance = np.abs(np.einsum("ij,ij->i", p - q, nq))
+        angle = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", n, nq), -1.0, 1.0)))
+        return distance, angle
+
+    def first_hits(
+        self, origins: Array, directions: Array, length: float, grids: tuple[int, ...]
+    ) -> Array:
+        """Ray casting, compiled (:func:`hapticsim.geometry._rays_compiled.first_hits`): only
+        each ray's chord through the bounding sphere is searched."""
+        from hapticsim.geometry._eof_compiled import unpack
+        from hapticsim.geometry._rays_compiled import first_hits
+
+        o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3).T)
+        d = np.ascontiguousarray(np.asarray(directions, dtype=np.float64).reshape(-1, 3).T)
+        out = np.empty(o.shape[1])
+        first_hits(o, d, float(length), np.asarray(grids, dtype=np.int64), *unpack(self),
+                   1.0001 * self.bounding_radius, out)  # fmt: skip
+        return out
+
+    # ----------------------------------------------------------------- Solid: pieces, pose
+    def surface_mesh(self, resolution: int = 40) -> tuple[Array, NDArray[np.int64]]:
+        """Vertices and faces of its mesh (:func:`hapticsim.geometry.mesh.surface_grid`)."""
+        from hapticsim.geometry.mesh import surface_grid
+
+        return surface_grid(self, resolution)
+
+    def convex_pieces(self, resolution: int) -> tuple[tuple[Array, ...], Array, Array, str]:
+        """One piece: the distinct vertices of its uniform and natural grids at `resolution`
+        longitudes in its body frame (the hull MuJoCo builds of them is its collision mesh)."""
+        from hapticsim._validate import positive_int
+        from hapticsim.geometry.mesh import surface_grid
+
+        res = positive_int(resolution, "resolution", minimum=8)
+        body = self.replace(rotation=np.eye(3), center=np.zeros(3))
+        vertices = np.concatenate(
+            [surface_grid(body, res, "uniform")[0], surface_grid(body, res, "natural")[0]]
+        )
+        return ((np.unique(np.round(vertices, 12), axis=0),), self.center, self.rotation,
+                "superquadric mesh: hull of the uniform and natural grids")  # fmt: skip
+
+    @property
+    def pose(self) -> tuple[Array, Array]:
+        """Its rotation and centre: :meth:`shape_key` is of the body-frame shape."""
+        return self.rotation, self.center
+
+    def shape_key(self) -> bytes:
+        """The body-frame shape's parameters (a, eps, taper)."""
+        return np.concatenate([self.a, self.eps, self.taper]).tobytes()
+
+    def support_points(self) -> Array:
+        """(16471, 3) surface points on a 91 x 181 grid of the angles (eta, omega)."""
+        eta = np.linspace(-np.pi / 2, np.pi / 2, 91)
+        omega = np.linspace(-np.pi, np.pi, 181)
+        ee, oo = np.meshgrid(eta, omega)
+        return self.surface(ee.ravel(), oo.ravel())[0]
+
+    def support_half_widths(self) -> Array:
+        """(2,) float, the semi-axes a1, a2 [m]."""
+        return np.array(self.a[:2])
 
     def to_mesh(self, resolution: int = 64, parametrization: str = "uniform") -> Any:
         """A watertight ``trimesh.Trimesh`` of the surface in the world frame.

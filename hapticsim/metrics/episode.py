@@ -1,15 +1,17 @@
 """Scoring many estimates against one truth quickly: :class:`TruthScorer` (the environment's
-per-step alpha, beta, epsilon, IoU and Chamfer).
+per-step alpha, beta, epsilon, IoU and Chamfer), for any solids (SPEC §10).
 
 Everything random is drawn once, when the scorer is made, so that scoring an estimate costs only
-compiled loops (about 1 ms for the default 4096 samples and 128 Chamfer points):
+compiled loops where the solids allow (about 1 ms for two superquadrics, the default 4096
+samples and 128 Chamfer points):
 
-- **samples**: the rejection sampler of :func:`~hapticsim.metrics.volume.sample_interior`
-  (candidates in the cube ``[-1, 1]^3`` of scaled untapered body coordinates, kept when inside
-  the unit shape and passing the taper acceptance) run on fixed *quasi-random* candidates: a
-  scrambled Sobol sequence in four dimensions (three coordinates, one acceptance number). A
-  solid's interior sample is what it keeps of the first ``samples / acceptance`` candidates
-  (its acceptance is known in closed form), about `samples` points;
+- **samples**: each solid's interior sample comes from fixed *quasi-random* points (a scrambled
+  Sobol sequence): a superquadric's from the rejection sampler of
+  :func:`~hapticsim.geometry.sampling.superquadric_interior` run on shared candidates in four
+  dimensions (three coordinates, one acceptance number; it keeps what it needs of the first
+  ``samples / acceptance``, its acceptance known in closed form), a union's from its parts'
+  (each keeping the points no earlier part holds), a mesh's from a Sobol sequence in its
+  bounding box (:meth:`~hapticsim.geometry.solid.Solid.quasi_interior`);
 - **beta**: the truth's interior sample (its own scrambled sequence), fixed; beta is the
   fraction outside the estimate;
 - **alpha**: each estimate's interior sample from the shared candidates, tested in the truth.
@@ -17,17 +19,18 @@ compiled loops (about 1 ms for the default 4096 samples and 128 Chamfer points):
   environment's reward) has far less noise than either score;
 - **IoU**: from alpha, beta and the exact volumes, as :func:`~hapticsim.metrics.volume_overlap`;
 - **Chamfer** (SPEC §4, the mean of both directions' mean distances): fixed directions spread
-  evenly on the sphere (a randomly turned Fibonacci lattice) map one-to-one onto each surface
-  (the surface point on each ray), and each point carries its area element
-  (:func:`~hapticsim.metrics._compiled.surface_sample`), so the weighted means are area means;
-  the distances to the other exact surface come from foot-point iteration
-  (:func:`~hapticsim.metrics._compiled.surface_distances`), not from a mesh.
+  evenly on the sphere (a randomly turned Fibonacci lattice) map one-to-one onto a
+  superquadric's surface (the surface point on each ray, with its area element:
+  :meth:`~hapticsim.geometry.solid.Solid.lattice_surface`), so its weighted means are area
+  means; a solid no ray from its centre meets once (a union, a mesh) is sampled by area
+  instead, with a fixed seed. The distances to the other surface come from foot-point
+  iteration on a superquadric (compiled), from the surface itself on other kinds
+  (:meth:`~hapticsim.geometry.solid.Solid.foot_distances`).
 
-Accuracy, measured against 3 x 10^6 Monte Carlo samples and a 20 000-point Chamfer distance on
-30 estimate/truth pairs (random tapered and paper bodies, 4 scorer seeds; ``docs/fast-loop``):
-RMS error of epsilon 0.0032 at 4096 samples (0.0018 at 10 000), largest 0.0098; of the Chamfer
-distance 1.2 % at 128 points. (The former plain Monte Carlo scorer, 10 000 samples and 200
-random directions: 0.0059, largest 0.018, and 4.7 %.)
+Accuracy for superquadrics, measured against 3 x 10^6 Monte Carlo samples and a 20 000-point
+Chamfer distance on 30 estimate/truth pairs (random tapered and paper bodies, 4 scorer seeds;
+``docs/fast-loop``): RMS error of epsilon 0.0032 at 4096 samples (0.0018 at 10 000), largest
+0.0098; of the Chamfer distance 1.2 % at 128 points. Mesh truths: ``scripts/scorer_accuracy.py``.
 """
 
 from __future__ import annotations
@@ -39,22 +42,18 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry._eof_compiled import TINY
-from hapticsim.geometry.superquadric import superquadric_arg
-from hapticsim.metrics import _compiled as kernel
-from hapticsim.metrics.volume import _max_taper_jacobian, intersection_and_iou
+from hapticsim.geometry.sampling import (
+    CANDIDATES_PER_SAMPLE,
+    quasi_random_candidates,
+    sobol_points,
+)
+from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.metrics.volume import intersection_and_iou
 
 Array = NDArray[np.float64]
 
-#: Angular step [rad] of the differences behind the area weights of surface points.
-AREA_STEP: float = 1e-4
-#: Foot-point iterations per distance (converged to < 1e-9 m near the surface after 3-4).
-FOOT_ITERATIONS: int = 6
-#: Candidates drawn per interior sample of an estimate: an estimate uses ``samples /
-#: acceptance`` of them, and any superquadric with eps <= 2 keeps at least 1/6 (untapered) or
-#: about 1/16 (fully tapered); if one ever keeps less, it is scored with the samples it has.
-CANDIDATES_PER_SAMPLE: int = 16
+#: Seed of the surface sample of an estimate without a lattice surface (the same each call).
+_SURFACE_SEED: int = 1
 
 
 @dataclass(frozen=True)
@@ -81,25 +80,6 @@ class EstimateScore:
         }  # fmt: skip
 
 
-def sobol_points(dimensions: int, count: int, gen: np.random.Generator) -> Array:
-    """The first ``2^m >= count`` points of a scrambled Sobol sequence in [0, 1)^dimensions
-    (scrambling seeded by `gen`), (2^m, dimensions): a balanced prefix. The sequence is the same
-    whatever `count`, so a longer set starts with a shorter one."""
-    from scipy.stats import qmc
-
-    sobol = qmc.Sobol(dimensions, scramble=True, seed=gen)
-    return sobol.random_base2(int(np.ceil(np.log2(max(count, 1)))))
-
-
-def quasi_random_candidates(count: int, gen: np.random.Generator) -> tuple[Array, Array, Array]:
-    """At least `count` candidates of the rejection sampler from :func:`sobol_points` in four
-    dimensions: the first three coordinates mapped to the cube [-1, 1]^3 (``unit``, with
-    ``log(|u| + TINY)``), the fourth the acceptance numbers."""
-    sobol = sobol_points(4, count, gen)
-    unit = np.ascontiguousarray(2.0 * sobol[:, :3].T - 1.0)
-    return unit, np.log(np.abs(unit) + TINY), np.ascontiguousarray(sobol[:, 3])
-
-
 def _sphere_lattice(count: int, gen: np.random.Generator) -> Array:
     """(3, count) unit directions spread evenly over the sphere: a Fibonacci lattice (equal-area
     bands in z, the golden angle between successive points) turned by a random rotation."""
@@ -113,31 +93,11 @@ def _sphere_lattice(count: int, gen: np.random.Generator) -> Array:
     return np.ascontiguousarray(q @ lattice)
 
 
-def interior_sample(
-    candidates: tuple[Array, Array, Array], sq: Superquadric, samples: int
-) -> Array:
-    """About `samples` points uniform inside `sq`, (3, k) [m, world]: what the rejection sampler
-    keeps of the first ``samples / acceptance`` of the fixed `candidates`
-    (:func:`quasi_random_candidates`)."""
-    unit, log_unit, accept = candidates
-    top = _max_taper_jacobian(sq.taper)
-    count = _candidate_count(sq, top, samples, accept.shape[0])
-    return kernel.interior_points(unit, log_unit, accept, top, count, *kernel.unpack(sq))
-
-
-def _candidate_count(sq: Superquadric, top: float, samples: int, available: int | None) -> int:
-    """Candidates for about `samples` kept points of `sq` (its acceptance is
-    ``V / (8 a1 a2 a3 top)``), at most `available` (None: no limit)."""
-    acceptance = sq.volume / (8.0 * float(np.prod(sq.a)) * top)
-    count = int(np.ceil(samples / acceptance))
-    return count if available is None else min(available, count)
-
-
 class TruthScorer:
-    """Scores estimates against one fixed truth, fast (module docstring).
+    """Scores estimates against one fixed truth, fast (module docstring). Any solids.
 
     Args:
-        truth: the true superquadric.
+        truth: the true solid.
         samples: interior points per solid for alpha and beta (about; module docstring), >= 100.
         chamfer_samples: surface points per shape for the Chamfer distance, >= 10.
         rng: seed or generator of every random number (drawn here, once).
@@ -145,34 +105,25 @@ class TruthScorer:
 
     def __init__(
         self,
-        truth: Superquadric,
+        truth: Solid,
         samples: int = SCORE_SAMPLES,
         chamfer_samples: int = SCORE_CHAMFER_POINTS,
         rng: np.random.Generator | int | None = 0,
     ) -> None:
-        self.truth = superquadric_arg(truth, "truth")
+        self.truth = solid_arg(truth, "truth")
         self.samples = positive_int(samples, "samples", minimum=100)
         self.chamfer_samples = positive_int(chamfer_samples, "chamfer_samples", minimum=10)
         gen = as_generator(rng)
-        self._unit, self._log_unit, self._accept = quasi_random_candidates(
-            CANDIDATES_PER_SAMPLE * self.samples, gen
-        )
+        self._candidates = quasi_random_candidates(CANDIDATES_PER_SAMPLE * self.samples, gen)
         self._directions = _sphere_lattice(self.chamfer_samples, gen)
         self._set_truth(self.truth, gen)
 
-    def _set_truth(self, truth: Superquadric, gen: np.random.Generator) -> None:
+    def _set_truth(self, truth: Solid, gen: np.random.Generator) -> None:
         self.truth = truth
-        self._truth_params = kernel.unpack(truth)
-        # only as many candidates as the truth's own acceptance needs (the scrambled sequence
-        # starts the same whatever its length, so the sample is that of the full set)
-        need = _candidate_count(truth, _max_taper_jacobian(truth.taper), self.samples, None)
-        candidates = quasi_random_candidates(min(need, CANDIDATES_PER_SAMPLE * self.samples), gen)
-        self._truth_inside = interior_sample(candidates, truth, self.samples)
-        self._truth_surface = self._surface(self._truth_params)
+        self._truth_inside = np.ascontiguousarray(truth.quasi_interior(self.samples, gen).T)
+        self._truth_surface = self._surface(truth, gen)
 
-    def with_truth(
-        self, truth: Superquadric, rng: np.random.Generator | int | None = 0
-    ) -> TruthScorer:
+    def with_truth(self, truth: Solid, rng: np.random.Generator | int | None = 0) -> TruthScorer:
         """A scorer for another truth that shares this one's truth-independent random numbers
         (the estimate-side candidates and the surface directions): cheaper than a new one.
 
@@ -182,46 +133,55 @@ class TruthScorer:
         """
         other = object.__new__(TruthScorer)
         other.__dict__.update(self.__dict__)
-        other._set_truth(superquadric_arg(truth, "truth"), as_generator(rng))
+        other._set_truth(solid_arg(truth, "truth"), as_generator(rng))
         return other
 
-    def score(self, estimate: Superquadric) -> EstimateScore:
+    def score(self, estimate: Solid) -> EstimateScore:
         """alpha, beta, epsilon, IoU and Chamfer of `estimate` against the truth."""
-        est = superquadric_arg(estimate, "estimate")
-        shape, rot, center = kernel.unpack(est)
-        t_shape, t_rot, t_center = self._truth_params
-        top = _max_taper_jacobian(est.taper)
-        count = _candidate_count(est, top, self.samples, self._accept.shape[0])
-        outside_e, kept = kernel.interior_outside(
-            self._unit, self._log_unit, self._accept, top, count, shape, rot, center, t_shape,
-            t_rot, t_center,
-        )  # fmt: skip
-        outside_s = kernel.count_outside(self._truth_inside, shape, rot, center)
+        est = solid_arg(estimate, "estimate")
+        outside_e, kept = self.truth.count_outside_of(est, self._candidates, self.samples)
+        outside_s = est.count_outside(self._truth_inside)
         n_e, n_s = max(kept, 1), max(self._truth_inside.shape[1], 1)
         alpha, beta = outside_e / n_e, outside_s / n_s
         _, iou = intersection_and_iou(alpha, beta, est.volume, self.truth.volume, n_s)
-        distance = self._chamfer((shape, rot, center))
+        distance = self._chamfer(est)
         return EstimateScore(
             alpha=float(alpha), beta=float(beta), epsilon=float(alpha + beta), iou=float(iou),
             chamfer=float(distance), samples=(int(kept), n_s),
         )  # fmt: skip
 
-    def _surface(self, params: tuple[Array, Array, Array]) -> tuple[Array, Array]:
-        """Surface points (3, K) [m, world] of the fixed directions, and their area weights."""
-        points = np.empty((3, self.chamfer_samples))
-        weights = np.empty(self.chamfer_samples)
-        kernel.surface_sample(self._directions, AREA_STEP, *params, points, weights)
-        return points, weights
+    def _surface(self, solid: Solid, gen: np.random.Generator) -> tuple[Array, Array]:
+        """Surface points (3, K) [m, world] and their weights: on the fixed directions where the
+        solid has a lattice surface, else `chamfer_samples` area-uniform points (equal weights).
+        """
+        lattice = solid.lattice_surface(self._directions)
+        if lattice is not None:
+            return lattice
+        points, _ = solid.sample_surface(self.chamfer_samples, gen)
+        return np.ascontiguousarray(points.T), np.ones(self.chamfer_samples)
 
-    def _chamfer(self, params: tuple[Array, Array, Array]) -> float:
+    def _chamfer(self, estimate: Solid) -> float:
         """Area-weighted mean distances between the two surfaces, averaged (SPEC §4) [m]."""
-        points, weights = self._surface(params)
-        to_truth = np.empty(self.chamfer_samples)
-        kernel.surface_distances(points, *self._truth_params, FOOT_ITERATIONS, to_truth)
+        points, weights = self._surface(estimate, np.random.default_rng(_SURFACE_SEED))
+        to_truth = self.truth.foot_distances(points)
         truth_points, truth_weights = self._truth_surface
-        to_estimate = np.empty(self.chamfer_samples)
-        kernel.surface_distances(truth_points, *params, FOOT_ITERATIONS, to_estimate)
+        to_estimate = estimate.foot_distances(truth_points)
         return 0.5 * (
             float(np.average(to_truth, weights=weights))
             + float(np.average(to_estimate, weights=truth_weights))
         )
+
+
+def interior_sample(candidates: tuple[Array, Array, Array], solid: Solid, samples: int) -> Array:
+    """About `samples` points uniform inside `solid`, (3, k) [m, world], from the scorer's fixed
+    candidates (:meth:`~hapticsim.geometry.solid.Solid.interior_from_candidates`)."""
+    return solid_arg(solid, "solid").interior_from_candidates(candidates, samples)
+
+
+__all__ = [
+    "EstimateScore",
+    "TruthScorer",
+    "interior_sample",
+    "quasi_random_candidates",
+    "sobol_points",
+]

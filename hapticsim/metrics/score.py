@@ -9,11 +9,24 @@ import numpy as np
 
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
-from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer
-from hapticsim.metrics.volume import DEFAULT_VOLUME_SAMPLES, volume_overlap
+from hapticsim.metrics.volume import (
+    BOOLEAN_RESOLUTION,
+    DEFAULT_VOLUME_SAMPLES,
+    boolean_overlap,
+    volume_overlap,
+)
+
+#: Volume methods of :func:`score`.
+VOLUME_METHODS: tuple[str, ...] = ("monte_carlo", "booleans")
+#: How each kind of solid draws its interior points and knows its volume (for the method text).
+_SAMPLERS = {
+    "superquadric": ("rejection sampling", "closed form"),
+    "union": ("its parts' rejection samples outside the parts before them",
+              "the parts' closed forms less their measured overlaps"),
+    "mesh": ("rejection from its bounding box by ray-parity containment", "divergence theorem"),
+}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -73,48 +86,72 @@ def seed_text(rng: np.random.Generator | int | None) -> str:
     return "no seed" if rng is None else f"seed {rng}"
 
 
+def _monte_carlo_text(estimate: Solid, truth: Solid, n_vol: int, seed: str) -> str:
+    """The ``volume_method`` of a Monte Carlo score."""
+    kinds = sorted({estimate.kind, truth.kind})
+    tail = f"standard error of alpha, beta <= {0.5 / np.sqrt(n_vol):.4f}"
+    if kinds == ["superquadric"]:
+        return (
+            f"Monte Carlo: {n_vol} points uniform inside each solid (rejection sampling), "
+            f"{seed}; exact closed-form volumes; {tail}"
+        )
+    samplers = "; ".join(f"{k}: {_SAMPLERS.get(k, ('its sampler',))[0]}" for k in kinds)
+    volumes = ", ".join(_SAMPLERS.get(k, ("", "its own"))[1] for k in kinds)
+    return (
+        f"Monte Carlo against a {truth.kind} truth: {n_vol} points uniform inside each solid "
+        f"({samplers}), {seed}; volumes: {volumes}; {tail}"
+    )
+
+
 def score(
-    estimate: Superquadric,
-    truth: Superquadric | MeshSolid,
+    estimate: Solid,
+    truth: Solid,
     rng: np.random.Generator | int | None = 0,
     volume_samples: int = DEFAULT_VOLUME_SAMPLES,
     chamfer_samples: int = DEFAULT_CHAMFER_SAMPLES,
+    volume_method: str = "monte_carlo",
 ) -> Score:
-    """alpha, beta, epsilon, IoU and Chamfer distance of `estimate` against `truth`.
+    """alpha, beta, epsilon, IoU and Chamfer distance of `estimate` against `truth`, any two
+    solids (superquadrics, unions, meshes).
 
     Volumes by Monte Carlo (:func:`~hapticsim.metrics.volume.volume_overlap`): with the default
     100 000 points per solid, alpha and beta are within 0.005 of their exact values at three
-    standard errors, tapered and posed shapes alike. One generator draws the volume samples, then
-    the Chamfer samples; the default seed 0 makes the score of a pair reproducible.
+    standard errors, tapered and posed shapes alike; or by exact mesh booleans
+    (``volume_method="booleans"``, :func:`~hapticsim.metrics.volume.boolean_overlap`). One
+    generator draws the volume samples, then the Chamfer samples; the default seed 0 makes the
+    score of a pair reproducible.
 
     Args:
-        estimate: the estimated superquadric S_e.
-        truth: the true superquadric S_s, or a
-            :class:`~hapticsim.geometry.mesh_solid.MeshSolid` (then
-            :func:`~hapticsim.metrics.mesh_truth.score_mesh` scores against the mesh).
+        estimate: the estimated solid S_e.
+        truth: the true solid S_s.
         rng: seed or generator.
-        volume_samples: points drawn inside each solid, >= 1.
+        volume_samples: points drawn inside each solid, >= 1 (Monte Carlo).
         chamfer_samples: points drawn on each surface, >= 1.
+        volume_method: ``"monte_carlo"`` or ``"booleans"``.
 
     Returns:
-        The :class:`Score`.
+        The :class:`Score`, its ``volume_method`` stating how.
     """
-    if isinstance(truth, MeshSolid):  # a mesh truth: hapticsim.metrics.mesh_truth
-        from hapticsim.metrics.mesh_truth import score_mesh
-
-        return score_mesh(estimate, truth, rng, volume_samples, chamfer_samples)
-    estimate = superquadric_arg(estimate, "estimate")
-    truth = superquadric_arg(truth, "truth")
+    estimate = solid_arg(estimate, "estimate")
+    truth = solid_arg(truth, "truth")
+    if volume_method not in VOLUME_METHODS:
+        raise InvalidInputError(
+            f"`volume_method` must be one of {', '.join(VOLUME_METHODS)}, got {volume_method!r}"
+        )
     n_vol = positive_int(volume_samples, "volume_samples")
     n_cd = positive_int(chamfer_samples, "chamfer_samples")
     seed = seed_text(rng)
     gen = as_generator(rng)
-    volumes = volume_overlap(estimate, truth, samples=n_vol, rng=gen)
+    if volume_method == "monte_carlo":
+        volumes = volume_overlap(estimate, truth, samples=n_vol, rng=gen)
+        method = _monte_carlo_text(estimate, truth, n_vol, seed)
+    else:
+        volumes = boolean_overlap(estimate, truth)
+        method = (
+            f"exact mesh booleans (manifold3d) of the two solids' surface meshes (superquadrics "
+            f"meshed at {BOOLEAN_RESOLUTION} longitudes)"
+        )
     distance = chamfer(estimate, truth, samples=n_cd, rng=gen)
-    method = (
-        f"Monte Carlo: {n_vol} points uniform inside each solid (rejection sampling), {seed}; "
-        f"exact closed-form volumes; standard error of alpha, beta <= {0.5 / np.sqrt(n_vol):.4f}"
-    )
     return Score(
         alpha=volumes.alpha,
         beta=volumes.beta,
@@ -124,4 +161,4 @@ def score(
     )
 
 
-__all__ = ["Score", "score"]
+__all__ = ["Score", "VOLUME_METHODS", "score"]

@@ -173,11 +173,8 @@ def mesh_contact_accuracy(
         median and p95 [deg] on ``faces`` and ``edges`` (:data:`FACE_ANGLE_DEG`; None where a body
         has none) and in ``all``, and ``distance_median``/``distance_p95`` [m].
     """
-    from hapticsim.sim.accuracy import normal_angle_deg, surface_distance
-    from hapticsim.sim.object_mesh import object_vertices
-
     body = truth.replace(rotation=np.eye(3), center=np.zeros(3))
-    vertices = object_vertices(body, resolution)
+    vertices = body.convex_pieces(resolution)[0][0]
     spec = mujoco.MjSpec()
     spec.add_mesh(name="object", uservert=vertices.ravel().tolist())
     spec.worldbody.add_body(name="object").add_geom(
@@ -210,8 +207,7 @@ def mesh_contact_accuracy(
         measured_p.append(np.array(c.pos) - 0.5 * c.dist * n)
     found_ = np.array(found, dtype=int)
     p, n = np.array(measured_p), np.array(measured_n)
-    angle = normal_angle_deg(body, p, n)
-    dist = surface_distance(body, p)
+    dist, angle = body.contact_errors(p, n)
     face = _on_faces(body, normals[found_])
 
     def stats(values: Array) -> dict[str, float] | None:

@@ -41,8 +41,8 @@ from numpy.typing import NDArray
 from hapticsim._validate import as_generator, finite_array, finite_float, positive_int
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
-from hapticsim.geometry.mesh import surface_grid
-from hapticsim.geometry.mesh_solid import MeshSolid, sample_triangles, truth_arg
+from hapticsim.geometry.mesh_solid import sample_triangles
+from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.geometry.superquadric import superquadric_arg
 
 Array = NDArray[np.float64]
@@ -187,21 +187,15 @@ class RoughObject:
 
 
 # ----------------------------------------------------------------------------- the camera
-def _surface_triangles(truth: Superquadric | MeshSolid) -> tuple[Array, Array, Array]:
-    """Triangles (m, 3, 3) [m], their areas (m,) [m^2] and outward unit normals (m, 3): the
-    mesh's, or those of a mesh of :data:`_CAMERA_MESH_RESOLUTION` longitudes of a superquadric
-    (its chords, a few 1e-5 m, are far below a camera's depth noise)."""
-    if isinstance(truth, MeshSolid):
-        return np.asarray(truth.triangles), np.asarray(truth.face_areas), truth.face_normals
-    return _superquadric_triangles(truth)
-
-
 @lru_cache(maxsize=16)
-def _superquadric_triangles(truth: Superquadric) -> tuple[Array, Array, Array]:
-    """:func:`_surface_triangles` of a superquadric, kept for the shapes seen last (episodes
-    come back to the same bodies)."""
-    vertices, faces = surface_grid(truth, _CAMERA_MESH_RESOLUTION)
-    tri = vertices[faces]
+def _surface_triangles(truth: Solid) -> tuple[Array, Array, Array]:
+    """Triangles (m, 3, 3) [m], their areas (m,) [m^2] and outward unit normals (m, 3) of the
+    solid's surface mesh (:meth:`~hapticsim.geometry.solid.Solid.surface_mesh`: a mesh's own, a
+    superquadric's at :data:`_CAMERA_MESH_RESOLUTION` longitudes, whose chords, a few 1e-5 m,
+    are far below a camera's depth noise), kept for the solids seen last (episodes come back to
+    the same bodies)."""
+    vertices, faces = truth.surface_mesh(_CAMERA_MESH_RESOLUTION)
+    tri = np.asarray(vertices)[np.asarray(faces)]
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     doubled = np.linalg.norm(cross, axis=1)
     ok = doubled > 0
@@ -212,14 +206,14 @@ def _superquadric_triangles(truth: Superquadric) -> tuple[Array, Array, Array]:
 
 
 def depth_cloud(
-    truth: Superquadric | MeshSolid,
+    truth: Solid,
     rng: np.random.Generator | int | None = None,
     camera: DepthCamera | None = None,
 ) -> tuple[Array, Array]:
     """The point cloud a depth camera gives of the object's visible side (module docstring).
 
     Args:
-        truth: the object (superquadric or mesh solid), world frame.
+        truth: the object (any solid), world frame.
         rng: seed or generator (surface samples, then the depth noise).
         camera: the camera (default :class:`DepthCamera`), aimed at ``truth.center``.
 
@@ -229,7 +223,7 @@ def depth_cloud(
     Raises:
         SimulationError: the camera sees fewer than 50 points of the object.
     """
-    truth = truth_arg(truth, "truth")
+    truth = solid_arg(truth, "truth")
     cam = DepthCamera() if camera is None else camera
     gen = as_generator(rng)
     target = np.asarray(truth.center, float)
@@ -469,7 +463,7 @@ def _ellipsoid(
 
 
 def vision_estimate(
-    truth: Superquadric | MeshSolid,
+    truth: Solid,
     rng: np.random.Generator | int | None = None,
     camera: DepthCamera | None = None,
 ) -> RoughObject:

@@ -12,7 +12,6 @@ bottom edges. The ground truth travels with the scene (:attr:`Scene.truth`).
 from __future__ import annotations
 
 import copy
-import hashlib
 from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -24,7 +23,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
-from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
+from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
 from hapticsim.sim.hand import Hand, attach_hand, compile_scene, touching_geom_name
 from hapticsim.sim.hand_description import HandDescription, load_hand
@@ -131,7 +130,7 @@ class Scene:
     """
 
     model: mujoco.MjModel
-    truth: Superquadric
+    truth: Solid
     hand: Hand
     object_geom_id: int
     object_body_id: int
@@ -167,7 +166,7 @@ class _Layout:
         return [float(self.foot[0]), float(self.foot[1]), self.table_top_z]
 
 
-def _layout(truth: Superquadric | MeshSolid, collision: CollisionParts) -> _Layout:
+def _layout(truth: Solid, collision: CollisionParts) -> _Layout:
     """The stand under the object's lowest point nearest the centre (2 mm into the object;
     :func:`~hapticsim.sim.object_mesh.support_foot`), the table :data:`STAND_HEIGHT` below the
     object's lowest point, the overview camera looking at it."""
@@ -185,7 +184,7 @@ def _layout(truth: Superquadric | MeshSolid, collision: CollisionParts) -> _Layo
     )  # fmt: skip
 
 
-def build_scene(truth: Superquadric | MeshSolid, config: SceneConfig | None = None) -> Scene:
+def build_scene(truth: Solid, config: SceneConfig | None = None) -> Scene:
     """Compose hand + table + object into a compiled model.
 
     Args:
@@ -200,11 +199,11 @@ def build_scene(truth: Superquadric | MeshSolid, config: SceneConfig | None = No
         SimulationError: the object is too large for the hand or outside its workspace, or a
             non-convex mesh cannot be decomposed into convex parts.
     """
-    return _compile(truth_arg(truth, "truth"), config)[0]
+    return _compile(solid_arg(truth, "truth"), config)[0]
 
 
 def _compile(
-    truth: Superquadric | MeshSolid, config: SceneConfig | None, primitive: Any = None
+    truth: Solid, config: SceneConfig | None, primitive: Any = None
 ) -> tuple[Scene, CollisionParts]:
     """The scene and the object's collision parts (body frame); with `primitive` (a
     ``mujoco.mjtGeom`` box or ellipsoid), the object collides as that primitive of half sizes
@@ -302,7 +301,7 @@ def _part_name(k: int) -> str:
 
 def _scene(
     model: mujoco.MjModel,
-    truth: Superquadric | MeshSolid,
+    truth: Solid,
     layout: _Layout,
     config: SceneConfig,
     collision: CollisionParts,
@@ -326,15 +325,23 @@ def _scene(
     )
 
 
-def _moved(scene: Scene, collision: CollisionParts, truth: Superquadric) -> Scene:
+def _same_pose(a: Solid, b: Solid) -> bool:
+    """True when two solids of equal :meth:`~hapticsim.geometry.solid.Solid.shape_key` sit at
+    the same pose."""
+    (ra, pa), (rb, pb) = a.pose, b.pose
+    return bool(np.array_equal(ra, rb) and np.array_equal(pa, pb))
+
+
+def _moved(scene: Scene, collision: CollisionParts, truth: Solid) -> Scene:
     """A copy of `scene` with its object at the pose of `truth` (same body-frame shape): the
     object body, the stand, the table and the camera move; nothing is compiled again."""
     scene.config.workspace.check_object(truth)
-    collision = CollisionParts(collision.parts, truth.center, truth.rotation, collision.method)
+    rotation, position = truth.pose
+    collision = CollisionParts(collision.parts, position, rotation, collision.method)
     layout = _layout(truth, collision)
     model = copy.copy(scene.model)
-    model.body_pos[scene.object_body_id] = truth.center
-    model.body_quat[scene.object_body_id] = truth.quaternion
+    model.body_pos[scene.object_body_id] = position
+    model.body_quat[scene.object_body_id] = matrix_to_quaternion(rotation)
     model.geom_pos[scene.stand_geom_id] = layout.stand_pos
     table = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, TABLE_PREFIX + "table"))
     model.body_pos[table] = layout.table_pos
@@ -345,14 +352,6 @@ def _moved(scene: Scene, collision: CollisionParts, truth: Superquadric) -> Scen
     model.cam_pos[camera] = layout.eye
     model.cam_quat[camera] = quat
     return replace(_scene(model, truth, layout, scene.config, collision), pads=scene.pads)
-
-
-def _shape_key(truth: Superquadric | MeshSolid) -> bytes:
-    if isinstance(truth, MeshSolid):  # the same mesh in the same place
-        digest = hashlib.sha1(np.ascontiguousarray(truth.vertices).tobytes())
-        digest.update(np.ascontiguousarray(truth.faces).tobytes())
-        return b"mesh:" + digest.digest()
-    return np.concatenate([truth.a, truth.eps, truth.taper]).tobytes()
 
 
 def _config_key(config: SceneConfig) -> tuple[object, ...]:
@@ -383,16 +382,16 @@ class SceneCache:
     def __len__(self) -> int:
         return len(self._entries)
 
-    def scene(self, truth: Superquadric | MeshSolid, config: SceneConfig | None = None) -> Scene:
+    def scene(self, truth: Solid, config: SceneConfig | None = None) -> Scene:
         """The scene of `truth` under `config` (see :func:`build_scene`), from the cache when
         the same body-frame shape was built before.
 
         Raises:
             SimulationError: the object is too large for the hand or outside its workspace.
         """
-        truth = truth_arg(truth, "truth")
+        truth = solid_arg(truth, "truth")
         config = SceneConfig() if config is None else config
-        key = (_shape_key(truth), _config_key(config))
+        key = (truth.shape_key(), _config_key(config))
         entry = self._entries.get(key)
         if entry is None:
             self.misses += 1
@@ -404,7 +403,7 @@ class SceneCache:
         self.hits += 1
         self._entries.move_to_end(key)
         scene, collision = entry
-        if isinstance(truth, MeshSolid) or scene.truth == truth:  # a mesh key holds its pose
+        if _same_pose(scene.truth, truth):  # equal keys and poses: the same solid
             return scene
         return _moved(scene, collision, truth)
 
@@ -414,7 +413,7 @@ class SceneCache:
 
 
 # ----------------------------------------------------------------------------- planning scenes
-def planning_primitive(shape: Superquadric | MeshSolid) -> Any:
+def planning_primitive(shape: Solid) -> Any:
     """The primitive geom (``mujoco.mjtGeom``) that stands for a rough object in planning, or None.
 
     An untapered superquadric with both exponents 1 is an ellipsoid; one with both exponents at
@@ -485,7 +484,7 @@ class PlanningSceneCache:
     def __init__(self) -> None:
         self._models: dict[tuple[object, ...], Scene] = {}
 
-    def scene(self, rough_shape: Superquadric | MeshSolid, config: SceneConfig) -> Scene:
+    def scene(self, rough_shape: Solid, config: SceneConfig) -> Scene:
         """The planning scene of `rough_shape` under `config` (see the class docstring)."""
         primitive = planning_primitive(rough_shape)
         if primitive is None:
@@ -502,13 +501,13 @@ class PlanningSceneCache:
         return _replace_primitive(scene, rough_shape, collision)
 
 
-def build_planning_scene(rough_shape: Superquadric | MeshSolid, config: SceneConfig) -> Scene:
+def build_planning_scene(rough_shape: Solid, config: SceneConfig) -> Scene:
     """A planning scene of a rough object: the primitive that stands for it
     (:func:`planning_primitive`), else its mesh (:func:`build_scene`)."""
     primitive = planning_primitive(rough_shape)
     if primitive is None:
         return build_scene(rough_shape, config)
-    return _compile(truth_arg(rough_shape, "rough_shape"), config, primitive)[0]
+    return _compile(solid_arg(rough_shape, "rough_shape"), config, primitive)[0]
 
 
 __all__ = [

@@ -17,8 +17,7 @@ import numpy as np
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.constants import MAX_CONTACTS
 from hapticsim.errors import SimulationError
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid, truth_arg
+from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
 from hapticsim.sim.free_space import FreeSpaceTrace
 from hapticsim.sim.recorder import Recorder
@@ -57,7 +56,7 @@ class Exploration:
         unfelt: touches the skin did not feel (tactile sensing; not recorded).
     """
 
-    truth: Superquadric | MeshSolid
+    truth: Solid
     rough: RoughObject
     arrays: dict[str, np.ndarray]
     pattern_kinds: tuple[str, ...]
@@ -89,7 +88,7 @@ class Exploration:
 
 
 def run_exploration(
-    truth: Superquadric | MeshSolid,
+    truth: Solid,
     strategy: str = "paper",
     count: int = DEFAULT_COUNT,
     rng: np.random.Generator | int | None = 0,
@@ -124,7 +123,7 @@ def run_exploration(
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or fewer than :data:`MIN_CONTACTS` contacts were gathered.
     """
-    truth = truth_arg(truth, "truth")
+    truth = solid_arg(truth, "truth")
     run_strategy = get_strategy(strategy)
     count = positive_int(count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)
     gen = as_generator(rng)

@@ -14,8 +14,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array, positive_fields
 from hapticsim.errors import SimulationError
-from hapticsim.geometry import Superquadric
-from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
@@ -54,17 +53,15 @@ class Workspace:
                 "is too far for the hand"
             )
 
-    def check_object(self, truth: Superquadric | MeshSolid) -> None:
-        """Raise SimulationError if the object (a superquadric or a mesh solid) is too large or
-        too far for the hand."""
+    def check_object(self, truth: Solid) -> None:
+        """Raise SimulationError if the object (any solid) is too large or too far for the
+        hand."""
         radius = truth.bounding_radius
         if radius > self.max_object_radius:
             size = (
-                f"semi-axes {np.round(truth.a, 4).tolist()} m"
-                if isinstance(truth, Superquadric)
-                else f"bounding box {np.round(np.ptp(truth.bounds, axis=0), 4).tolist()} m; "
-                "a mesh in millimetres needs --scale 0.001"
-            )  # fmt: skip
+                f"bounding box {np.round(np.ptp(truth.bounds, axis=0), 4).tolist()} m; an object "
+                "file in millimetres needs --scale 0.001"
+            )
             raise SimulationError(
                 f"object too large for the hand: bounding radius {radius:.3f} m exceeds "
                 f"{self.max_object_radius} m ({size})"

@@ -18,7 +18,6 @@ from hapticsim.data.objects import (
     load_mesh,
     random_superquadric,
     resolve_object,
-    truth_size,
     write_stl,
 )
 from hapticsim.errors import InvalidInputError
@@ -141,12 +140,12 @@ def test_pose_parsing() -> None:
         ObjectSpec("cube", scale=0.0)
 
 
-def test_resolve_object_and_truth_size() -> None:
+def test_resolve_object_and_the_noise_scale() -> None:
     cube = get_body("cube")
     assert resolve_object(cube) is cube and resolve_object("cube") == cube
-    assert truth_size(cube) == pytest.approx(0.03)
+    assert cube.size == pytest.approx(0.03)
     box = MeshSolid(*(lambda m: (m.vertices, m.faces))(trimesh.creation.box((0.06, 0.04, 0.02))))
-    assert truth_size(box) == pytest.approx(0.02)
+    assert box.size == pytest.approx(0.02)
     with pytest.raises(InvalidInputError, match="ObjectSpec"):
         resolve_object(3)  # type: ignore[arg-type]
 

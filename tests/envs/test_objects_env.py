@@ -14,7 +14,6 @@ from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.objects import ObjectDistribution, ObjectSet, coerce_objects
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import MeshSolid, Superquadric
-from hapticsim.sim.accuracy import mesh_contact_errors
 from hapticsim.sim.rough import BOX_EPS
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
@@ -76,8 +75,8 @@ def test_analytic_backend_touches_meshes_on_their_surface() -> None:
         truth = env.truth
         assert isinstance(truth, MeshSolid) and isinstance(info["truth"], MeshSolid)
         contacts = env.contacts
-        dist, angle = mesh_contact_errors(
-            truth, contacts.extra["points_clean"], contacts.extra["normals_clean"]
+        dist, angle = truth.contact_errors(
+            contacts.extra["points_clean"], contacts.extra["normals_clean"]
         )
         # ray casts refined to ~1.4e-6 m; measured max 1.5e-6 m and 0.0 degrees
         assert len(dist) > 20 and np.max(dist) < 1e-5 and np.max(angle) < 1.0
@@ -94,8 +93,8 @@ def test_mujoco_backend_explores_a_mesh() -> None:
         *_, info = env.step(np.array([np.cos(k), 0.3, 0.5, -0.2 + 0.3 * k, 0.1], np.float32))
     contacts = env.contacts
     assert len(contacts) >= 3
-    dist, _ = mesh_contact_errors(
-        env.truth, contacts.extra["points_clean"], contacts.extra["normals_clean"]
+    dist, _ = env.truth.contact_errors(
+        contacts.extra["points_clean"], contacts.extra["normals_clean"]
     )
     assert np.max(dist) < 1e-4  # MuJoCo collides with the convex mesh itself: measured ~1e-9 m
     env.close()

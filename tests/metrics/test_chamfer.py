@@ -78,12 +78,11 @@ def test_closest_point_on_triangles_matches_trimesh() -> None:
         (lambda: chamfer("box", BOX), "estimate"),
         (lambda: chamfer(BOX, 0), "truth"),
         (lambda: chamfer(BOX, BOX, samples=0), "samples"),
-        (lambda: chamfer(BOX, BOX, resolution=4), "resolution"),
         (lambda: chamfer(BOX, BOX, rng=0.5), "rng"),
         (lambda: sample_surface(BOX, 0), "count"),
         (lambda: surface_distance(np.zeros((2, 2)), BOX), "points_world"),
         (lambda: surface_distance(np.full((2, 3), np.nan), BOX), "points_world"),
-        (lambda: surface_distance(np.zeros((2, 3)), None), "sq"),
+        (lambda: surface_distance(np.zeros((2, 3)), None), "solid"),
     ],
 )
 def test_bad_input_raises_naming_the_argument(call, name: str) -> None:

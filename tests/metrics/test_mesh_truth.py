@@ -1,5 +1,5 @@
-"""Scoring against a mesh truth: Monte Carlo against exact booleans, exact closest points,
-contact accuracy with normal cones at edges."""
+"""Scoring a superquadric against a mesh truth: Monte Carlo against exact booleans, exact
+closest points, contact accuracy with normal cones at edges, the per-step scorer."""
 
 from __future__ import annotations
 
@@ -11,9 +11,8 @@ from hapticsim.data.example_meshes import EXAMPLE_MESHES, l_block, rounded_box
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import MeshSolid, Superquadric, rotvec_to_matrix
 from hapticsim.geometry.triangles import closest_point_on_triangles
-from hapticsim.metrics import mesh_truth as mt
-from hapticsim.metrics import score
-from hapticsim.sim.accuracy import mesh_contact_errors
+from hapticsim.metrics import boolean_overlap, score, volume_overlap
+from hapticsim.metrics.episode import TruthScorer
 
 BOX = MeshSolid(*(lambda m: (m.vertices, m.faces))(trimesh.creation.box((0.06, 0.04, 0.05))))
 
@@ -40,8 +39,8 @@ def _worst_difference(per_mesh: int, samples: int) -> float:
     for k, name in enumerate(EXAMPLE_MESHES):
         solid = EXAMPLE_MESHES[name]()
         for est in _estimates(solid, per_mesh, k):
-            mc = mt.mesh_volume_overlap(est, solid, samples=samples, rng=k)
-            exact = mt.mesh_boolean_overlap(est, solid)
+            mc = volume_overlap(est, solid, samples=samples, rng=k)
+            exact = boolean_overlap(est, solid)
             for key in ("alpha", "beta", "iou"):
                 worst = max(worst, abs(getattr(mc, key) - getattr(exact, key)))
     return worst
@@ -72,16 +71,16 @@ def test_a_superquadric_against_its_own_mesh_scores_near_zero() -> None:
 
 def test_score_states_the_method() -> None:
     est = _estimates(BOX, 1, 0)[0]
-    mc = mt.score_mesh(est, BOX, rng=0, volume_samples=20_000, chamfer_samples=500)
-    exact = mt.score_mesh(est, BOX, rng=0, chamfer_samples=500, method="booleans")
+    mc = score(est, BOX, rng=0, volume_samples=20_000, chamfer_samples=500)
+    exact = score(est, BOX, rng=0, chamfer_samples=500, volume_method="booleans")
     assert mc.volume_method.startswith("Monte Carlo against a mesh truth: 20000 points")
     assert "manifold3d" in exact.volume_method
     assert mc.chamfer == pytest.approx(exact.chamfer, rel=0.1)  # other Chamfer samples
-    assert mt.score_mesh(est, BOX, rng=3).to_dict() == mt.score_mesh(est, BOX, rng=3).to_dict()
-    with pytest.raises(InvalidInputError, match="method"):
-        mt.score_mesh(est, BOX, method="voxels")
-    with pytest.raises(InvalidInputError, match="MeshSolid"):
-        mt.mesh_volume_overlap(est, est)  # type: ignore[arg-type]
+    assert score(est, BOX, rng=3).to_dict() == score(est, BOX, rng=3).to_dict()
+    with pytest.raises(InvalidInputError, match="volume_method"):
+        score(est, BOX, volume_method="voxels")
+    with pytest.raises(InvalidInputError, match="must be a solid"):
+        volume_overlap(est, "box")  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("solid", [BOX, l_block(), rounded_box()], ids=["box", "l", "rounded"])
@@ -90,7 +89,7 @@ def test_closest_points_are_exact(solid: MeshSolid) -> None:
     lo, hi = solid.bounds
     near, _ = solid.sample_surface(300, gen)
     pts = np.concatenate([near + gen.normal(0, 0.002, near.shape), gen.uniform(lo, hi, (300, 3))])
-    q, face = mt.closest_points(solid, pts)
+    q, face = solid.nearest(pts)
     tri = np.asarray(solid.triangles)
     pairs_p = np.repeat(pts, len(tri), axis=0)
     pairs_t = np.tile(tri, (len(pts), 1, 1))
@@ -110,26 +109,26 @@ def test_contact_normals_at_an_edge_count_against_its_cone() -> None:
         [[np.sqrt(0.5), 0.0, np.sqrt(0.5)], [1.0, 0.0, 0.0],
          [np.cos(np.pi / 4), np.sin(tilt), np.sin(np.pi / 4)]]
     )  # fmt: skip
-    dist, angle = mesh_contact_errors(BOX, edge, normals)
+    dist, angle = BOX.contact_errors(edge, normals)
     assert np.allclose(dist, 0.0, atol=1e-12)
     assert angle[0] == pytest.approx(0.0, abs=1e-6) and angle[1] == pytest.approx(0.0, abs=1e-6)
     assert angle[2] == pytest.approx(np.degrees(np.arcsin(np.sin(tilt) / np.linalg.norm(
         normals[2]))), abs=0.01)  # fmt: skip
     on_face = np.array([[0.03, 0.01, 0.0]])
-    _, a = mesh_contact_errors(BOX, on_face, np.array([[0.0, 0.0, 1.0]]))
+    _, a = BOX.contact_errors(on_face, np.array([[0.0, 0.0, 1.0]]))
     assert a[0] == pytest.approx(90.0)
 
 
-def test_mesh_scorer_matches_the_one_off_score() -> None:
+def test_the_per_step_scorer_matches_the_one_off_score() -> None:
     solid = l_block()
     est = _estimates(solid, 1, 4)[0]
-    scorer = mt.MeshScorer(solid, chamfer_samples=500)  # 4096 quasi-random volume samples
-    fast = scorer(est)
-    slow = mt.score_mesh(est, solid, rng=9, volume_samples=400_000, chamfer_samples=500)
+    scorer = TruthScorer(solid, chamfer_samples=500)  # 4096 quasi-random volume samples
+    fast = scorer.score(est).to_dict()
+    slow = score(est, solid, rng=9, volume_samples=400_000, chamfer_samples=500)
     # Measured over 6 estimates x 3 scorer seeds against 400k Monte Carlo samples (standard
     # error 0.0008): |alpha error| <= 0.0068, |beta error| <= 0.0025 (RMS 0.0025 / 0.0009);
     # Monte Carlo at 10k has a standard error of 0.005. Chamfer: random samples, within 10 %.
     assert fast["alpha"] == pytest.approx(slow.alpha, abs=0.012)
     assert fast["beta"] == pytest.approx(slow.beta, abs=0.006)
     assert fast["chamfer"] == pytest.approx(slow.chamfer, rel=0.1)
-    assert scorer(est) == fast  # the same samples every call
+    assert scorer.score(est).to_dict() == fast  # the same samples every call

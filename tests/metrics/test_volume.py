@@ -154,7 +154,7 @@ def test_interior_samples_are_inside_and_uniform() -> None:
         (lambda e, t: epsilon([1, 2], t), "estimate"),
         (lambda e, t: iou(e, t, rng=-1), "rng"),
         (lambda e, t: sample_interior(e, -5), "count"),
-        (lambda e, t: sample_interior({}, 5), "sq"),
+        (lambda e, t: sample_interior({}, 5), "solid"),
     ],
 )
 def test_bad_input_raises_naming_the_argument(call, name: str) -> None:

@@ -63,12 +63,11 @@ def test_thumb_touches_the_corner_meanwhile(sweep) -> None:
 def test_sweep_contacts_are_accurate(sweep) -> None:
     _, arrays = sweep
     p, n = arrays["points_clean"], arrays["normals_clean"]
-    from hapticsim.sim.accuracy import normal_angle_deg, surface_distance
-
     # measured: distance <= 3.8e-6 m, angles median 0.06 deg, max 2.3 deg on the edge
-    assert np.max(surface_distance(CUBE, p)) < 2e-4
-    assert np.median(normal_angle_deg(CUBE, p, n)) < 1.0
-    assert np.max(normal_angle_deg(CUBE, p, n)) < 10.0
+    dist, angle = CUBE.contact_errors(p, n)
+    assert np.max(dist) < 2e-4
+    assert np.median(angle) < 1.0
+    assert np.max(angle) < 10.0
 
 
 def test_plan_without_reachable_stripes_is_none() -> None:

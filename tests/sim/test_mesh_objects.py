@@ -8,8 +8,8 @@ import trimesh
 
 from hapticsim.data.example_meshes import l_block, truncated_pyramid
 from hapticsim.errors import SimulationError
+from hapticsim.geometry import mesh_solid
 from hapticsim.geometry.mesh_solid import MeshSolid
-from hapticsim.sim import object_mesh
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
@@ -72,7 +72,7 @@ def test_without_coacd_a_non_convex_mesh_is_refused(monkeypatch: pytest.MonkeyPa
         return real_import(name, *args, **kwargs)
 
     monkeypatch.setattr(builtins, "__import__", no_coacd)
-    monkeypatch.setattr(object_mesh, "_decompositions", {})
+    monkeypatch.setattr(mesh_solid, "_decompositions", {})
     with pytest.raises(SimulationError, match="not convex.*hapticsim\\[meshes\\]"):
         build_scene(l_block())
 

@@ -1,4 +1,5 @@
-"""Compiled helpers of the quality measures (numba): inside tests and distances to a surface.
+"""Compiled sampling and distances on a superquadric (numba): interior samples, inside tests and
+distances to the surface, behind its quality measures (:mod:`hapticsim.geometry.sampling`).
 
 They use the one compiled inside-outside function
 (:func:`hapticsim.geometry._eof_compiled.log_inside_outside`); each loop over points is

@@ -1,0 +1,41 @@
+"""Reading any solid from its JSON: a superquadric (SPEC §6), a union (SPEC §10), or a fit
+result holding either (``"solid"`` beside ``"superquadric"``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.solid import Solid
+from hapticsim.geometry.superquadric import Superquadric
+from hapticsim.geometry.union import SuperquadricUnion
+
+
+def solid_from_dict(data: Any) -> Solid:
+    """The solid a JSON object describes: ``{"parts": [...]}`` a union, a fit result its
+    ``"solid"`` (or ``"superquadric"``), anything else a superquadric (SPEC §6's keys).
+
+    Raises:
+        InvalidInputError: not a JSON object, or a malformed superquadric or union (named).
+    """
+    if isinstance(data, dict) and isinstance(data.get("solid"), dict):
+        data = data["solid"]
+    if isinstance(data, dict) and "parts" in data:
+        return SuperquadricUnion.from_dict(data)
+    if not isinstance(data, dict):
+        raise InvalidInputError(
+            f"a solid must be a JSON object (a superquadric or a union), got "
+            f"{type(data).__name__}"
+        )
+    return Superquadric.from_dict(data)
+
+
+def solid_from_json(path_or_text: str | Path) -> Solid:
+    """Read a solid (:func:`solid_from_dict`) from a JSON file path or a JSON string."""
+    from hapticsim._files import read_json
+
+    return solid_from_dict(read_json(path_or_text))
+
+
+__all__ = ["solid_from_dict", "solid_from_json"]
