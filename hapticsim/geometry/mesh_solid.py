@@ -24,11 +24,10 @@ from hapticsim._validate import as_generator, finite_array, points_array, positi
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.triangles import (
-    PAIR_BATCH,
+    TriangleSearch,
+    all_pairs_nearest,
     closest_point_on_triangles,
-    nearest_of_pairs,
     sample_triangles,
-    split_long_edges,
 )
 
 Array = NDArray[np.float64]
@@ -41,10 +40,6 @@ _FACES_PER_CELL: float = 2.0
 _MAX_GRID: int = 256
 #: Relative tolerance of the convexity test (fraction of the bounding radius).
 _CONVEX_TOL: float = 1e-7
-#: Query points times triangles below which :meth:`MeshSolid.nearest` tests every pair.
-_BRUTE_PAIRS: int = 2_000_000
-#: Nearest pieces first tested per point by :meth:`MeshSolid.nearest`.
-_FIRST_CANDIDATES: int = 16
 #: Concavity threshold of the convex decomposition of non-convex meshes (coacd's ``threshold``,
 #: relative to the bounding-box diagonal). The L-block of ``hapticsim.data.example_meshes``
 #: splits into its two bars exactly at 0.05 and at 0.02.
@@ -243,46 +238,23 @@ class MeshSolid(Solid):
             closest (n, 3) float [m, world] and face (n,) int.
         """
         p = points_array(points_world, "points_world", min_count=1)
-        tri = np.asarray(self.triangles)
-        m = len(tri)
-        closest, face = np.zeros_like(p), np.zeros(len(p), dtype=np.int64)
-        step = max(1, PAIR_BATCH // m)
-        for start in range(0, len(p), step):
-            chunk = p[start : start + step]
-            pi = np.repeat(np.arange(len(chunk)), m)
-            fi = np.tile(np.arange(m), len(chunk))
-            s = slice(start, start + len(chunk))
-            closest[s], face[s] = nearest_of_pairs(tri, chunk, pi, fi)
-        return closest, face
+        return all_pairs_nearest(np.asarray(self.triangles), p)
 
     @cached_property
     def _grid(self) -> _ColumnGrid:
         return _ColumnGrid(self.triangles)
 
     @cached_property
-    def _search(self) -> tuple[Array, NDArray[np.int64], float, Any]:
-        """The pieces of :meth:`nearest`: faces split into pieces with edges of at most 1/16 of
-        the bounding radius, their faces, their largest reach from their centroids, and a tree
-        of the centroids (scipy ``cKDTree``)."""
-        from scipy.spatial import cKDTree
-
-        pieces, face_of = split_long_edges(np.asarray(self.triangles), self.bounding_radius / 16)
-        centroid = pieces.mean(axis=1)
-        reach = float(np.max(np.linalg.norm(pieces - centroid[:, None, :], axis=2)))
-        return pieces, face_of, reach, cKDTree(centroid)
+    def _search(self) -> TriangleSearch:
+        """The faces split into pieces with edges of at most 1/16 of the bounding radius."""
+        return TriangleSearch(np.asarray(self.triangles), self.bounding_radius / 16)
 
     def nearest(
         self, points_world: Array, exact: bool = True
     ) -> tuple[Array, NDArray[np.int64]]:
-        """The closest point of the surface to each point and the face it lies on, fast.
-
-        Small problems test every (point, triangle) pair (:meth:`closest_points`). Larger ones
-        test each point's k pieces (:attr:`_search`) with the nearest centroids, k = 16, 64,
-        256, ..., until the nearest piece found is no farther than the k-th centroid less the
-        pieces' largest reach (no untested piece can be nearer). With ``exact=False`` the first
-        16 pieces are all that is tested: far points then may get a slightly farther point
-        (measured on the example meshes for Chamfer samples up to 3 cm off: mean distance within
-        1e-8 m of the exact one).
+        """The closest point of the surface to each point and the face it lies on, fast
+        (:class:`~hapticsim.geometry.triangles.TriangleSearch`; ``exact=False`` tests each
+        point's 16 nearest pieces only).
 
         Args:
             points_world: (n, 3) float [m, world].
@@ -291,28 +263,7 @@ class MeshSolid(Solid):
         Returns:
             closest (n, 3) float [m, world] and face (n,) int.
         """
-        p = points_array(points_world, "points_world", min_count=1)
-        if len(p) * len(self.faces) <= _BRUTE_PAIRS:
-            return self.closest_points(p)
-        pieces, face_of, reach, tree = self._search
-        closest = np.zeros_like(p)
-        face = np.zeros(len(p), dtype=np.int64)
-        todo = np.arange(len(p))
-        k = _FIRST_CANDIDATES
-        while len(todo):
-            k = min(k, len(pieces))
-            dist, idx = tree.query(p[todo], k=k)
-            dist, idx = dist.reshape(len(todo), k), idx.reshape(len(todo), k)
-            pi = np.repeat(np.arange(len(todo)), k)
-            q, piece = nearest_of_pairs(pieces, p[todo], pi, idx.ravel())
-            done = (np.linalg.norm(q - p[todo], axis=1) <= dist[:, -1] - reach) | (
-                k == len(pieces)
-            )
-            done |= not exact
-            closest[todo[done]], face[todo[done]] = q[done], face_of[piece[done]]
-            todo = todo[~done]
-            k *= 4
-        return closest, face
+        return self._search.nearest(points_array(points_world, "points_world", min_count=1), exact)
 
     # ----------------------------------------------------------------- Solid: surface
     def normals(self, points_world: Array) -> Array:

@@ -153,18 +153,25 @@ class SuperquadricUnion(Solid):
         return out
 
     def surface_distance(self, points_world: Array) -> Array:
-        """Distance [m] to the union's surface: to its watertight mesh at 96 longitudes per part
-        (:meth:`surface_mesh`; vertices on the surface, the chords add a few 1e-5 m)."""
-        return self._distance_mesh.surface_distance(points_world)
+        """Distance [m] to the union's surface: to the triangles of its watertight mesh at 96
+        longitudes per part (:meth:`surface_mesh`; vertices on the surface, the chords add a few
+        1e-5 m), by :class:`~hapticsim.geometry.triangles.TriangleSearch` (the 16 nearest pieces,
+        as a mesh's Chamfer distance)."""
+        p = points_array(points_world, "points_world", min_count=1)
+        if len(self.parts) == 1:
+            return self.parts[0].surface_distance(p)
+        closest, _ = self._triangles.nearest(p, exact=False)
+        return np.linalg.norm(closest - p, axis=1)
 
     @cached_property
-    def _distance_mesh(self) -> Solid:
-        from hapticsim.geometry.mesh_solid import MeshSolid
+    def _triangles(self) -> Any:
         from hapticsim.geometry.sampling import DEFAULT_MESH_RESOLUTION
+        from hapticsim.geometry.triangles import TriangleSearch
 
-        if len(self.parts) == 1:
-            return self.parts[0]
-        return MeshSolid(*self.surface_mesh(DEFAULT_MESH_RESOLUTION))
+        vertices, faces = self.surface_mesh(DEFAULT_MESH_RESOLUTION)
+        tri = np.asarray(vertices)[np.asarray(faces)]
+        doubled = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        return TriangleSearch(tri[doubled > 0], self.bounding_radius / 16)
 
     def contact_errors(self, points_world: Array, normals_world: Array) -> tuple[Array, Array]:
         """Per contact: the distance to the nearest part's surface (first order, as a
