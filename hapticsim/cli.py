@@ -45,17 +45,29 @@ def _explore_epilog() -> str:
     lines = ["object kinds (--object):"]
     kinds = (
         ("body", "tapered_box, cube, cylinder, ellipsoid (the paper's bodies)"),
-        ("superquadric", "a .json file (SPEC §6: a superquadric or a fit result)"),
+        ("superquadric", "a .json file: a superquadric (SPEC §6), a union of superquadrics"
+                         " (SPEC §10: {\"parts\": [...]}) or a fit result"),
         ("random", "a random superquadric without taper, drawn from --seed"),
         ("random_tapered", "a random tapered superquadric, drawn from --seed"),
+        ("random_composite", "a union of 2-4 overlapping random superquadrics, drawn from"
+                             " --seed"),
         ("mesh", "a closed .stl, .obj, .ply or .off file in metres (--scale converts);"
                  " centred at its centroid unless --pose; non-convex ones need coacd"),
+        ("pybullet:NAME", "a model of the installed pybullet_data (extra objects): duck,"
+                          " soccerball, jenga, domino, random/000 ... random/999, or a"
+                          " .urdf/mesh path inside pybullet_data"),
     )  # fmt: skip
     rows = list(kinds)
     rows.append(("", ""))
     for name in sorted(STRATEGIES):
         doc = (STRATEGIES[name].__doc__ or "").strip().split("\n\n")[0]
         rows.append((name, " ".join(doc.split())))
+    rows += [
+        ("uncertainty", "the environment's policy: touch where the current fit is least"
+                        " supported by the contacts so far (refits after every touch)"),
+        ("learned", "the environment's shipped learned policy (learned:PATH: a weight file)"),
+        ("random", "the environment's random touches"),
+    ]
     for k, v in rows:
         if not k and not v:
             lines.append("strategies (--strategy):")
@@ -64,6 +76,19 @@ def _explore_epilog() -> str:
         lines.append(f"  {k:<16}{wrapped[0]}")
         lines += [" " * 18 + w for w in wrapped[1:]]
     return "\n".join(lines)
+
+
+def _parts(text: str) -> int | str:
+    """argparse type of ``--parts``: ``auto`` or an int from 1."""
+    if text == "auto":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an int >= 1 or 'auto', got {text!r}")
+    return value
 
 
 def _positive_float(text: str) -> float:
@@ -109,33 +134,42 @@ def _print_json(data: Any) -> None:
 
 # ----------------------------------------------------------------------------- commands
 def _cmd_synth(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from hapticsim.data import io
-    from hapticsim.data.bodies import resolve_body
-    from hapticsim.data.synthetic import paper_dataset
+    from hapticsim.data.objects import ObjectSpec
+    from hapticsim.data.synthetic import synthetic_dataset
 
     # Check both outputs first so that bad input never leaves one of them written.
     io.check_output_path(args.out, io.CONTACT_SUFFIXES)
     if args.truth_out:
         io.check_output_path(args.truth_out)
-    truth = resolve_body(args.body)
-    contacts = paper_dataset(truth, noise=args.noise, rng=args.seed, count=args.count)
+    spec = ObjectSpec(args.body)
+    if spec.kind in ("mesh", "pybullet"):
+        raise InvalidInputError(
+            f"synth draws the paper's patterns on superquadrics and unions, got a mesh "
+            f"({args.body}): explore it with the hand (hapticsim explore --object ...)"
+        )
+    # a random kind's shape has its own stream: the contacts keep the seed's as before
+    truth = spec.resolve(np.random.default_rng(np.random.SeedSequence(args.seed).spawn(1)[0]))
+    contacts = synthetic_dataset(truth, noise=args.noise, rng=args.seed, count=args.count)
     io.write_contacts(args.out, contacts)
     if args.truth_out:
-        truth.to_json(args.truth_out)
+        io.write_json(args.truth_out, truth.to_dict())
     _print_json({"contacts": str(args.out), "count": len(contacts), "truth": truth.to_dict()})
     return 0
 
 
 def _cmd_score(args: argparse.Namespace) -> int:
     from hapticsim.data.objects import MESH_SUFFIXES, load_mesh
-    from hapticsim.geometry import Superquadric
+    from hapticsim.geometry import solid_from_json
     from hapticsim.metrics import score
 
-    estimate = Superquadric.from_json(args.estimate)
+    estimate = solid_from_json(args.estimate)
     if Path(args.truth).suffix.lower() in MESH_SUFFIXES:  # a mesh truth, as it stands
         truth = load_mesh(args.truth)
     else:
-        truth = Superquadric.from_json(args.truth)
+        truth = solid_from_json(args.truth)
     _print_json(score(estimate, truth, rng=args.seed).to_dict())
     return 0
 
@@ -148,12 +182,16 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         check_output_path(args.out)  # before the fit, not after it
     contacts = read_contacts(args.contacts)
     extra: dict = {}
-    if args.noise is not None or args.free_space or args.contact_sigma:
-        if args.method != "nML":
-            raise InvalidInputError(
-                "--noise, --free-space and --contact-sigma are for --method nML only"
-            )
+    if args.contact_sigma and args.method != "nML":
+        raise InvalidInputError("--contact-sigma is for --method nML only")
+    if (args.noise is not None or args.free_space) and args.method not in ("nML", "multi"):
+        raise InvalidInputError("--noise and --free-space are for --method nML and multi only")
+    if args.parts is not None and args.method != "multi":
+        raise InvalidInputError("--parts is for --method multi only")
+    if args.noise is not None:
         extra["noise"] = args.noise
+    if args.method == "multi":
+        extra["parts"] = args.parts
     if args.contact_sigma:
         if "sigma" not in contacts.extra:
             raise InvalidInputError(
@@ -371,19 +409,24 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("synth", help="synthetic contact data of a body (paper Section III-A)")
-    p.add_argument("body", help=f"one of {', '.join(BODY_NAMES)}, or a superquadric JSON file")
+    p.add_argument(
+        "body",
+        help=f"one of {', '.join(BODY_NAMES)}, a superquadric or union JSON file, random, "
+        "random_tapered or random_composite (drawn from --seed)",
+    )  # fmt: skip
     p.add_argument("--noise", type=float, default=0.1, help="relative noise sigma_N (default 0.1)")
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument("--count", type=int, default=150, help="number of contacts (default 150)")
     p.add_argument("--out", default="contacts.npz", help=".npz or .csv (default contacts.npz)")
-    p.add_argument("--truth-out", default=None, help="also write the true superquadric JSON")
+    p.add_argument("--truth-out", default=None, help="also write the true solid's JSON")
     p.set_defaults(func=_cmd_synth)
 
     p = sub.add_parser("score", help="quality measures of an estimate against the truth")
-    p.add_argument("estimate", help="superquadric or fit-result JSON")
+    p.add_argument("estimate", help="superquadric, union (SPEC §10) or fit-result JSON")
     p.add_argument(
-        "truth", help="superquadric JSON, or a mesh file (.stl/.obj/.ply/.off, metres, as it is)"
-    )
+        "truth",
+        help="superquadric or union JSON, or a mesh file (.stl/.obj/.ply/.off, metres, as it is)",
+    )  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0, help="seed of the volume sampling")
     p.set_defaults(func=_cmd_score)
 
@@ -391,15 +434,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("contacts", help=".npz or .csv contacts file (SPEC §6)")
     p.add_argument(
         "--method", choices=FIT_METHODS, default="nH",
-        help="the paper's LS, H, nLS, nH (SPEC §3), or nML: maximum likelihood for noisy data",
+        help="the paper's LS, H, nLS, nH (SPEC §3), nML: maximum likelihood for noisy data, or "
+        "multi: a union of superquadrics (SPEC §10)",
+    )  # fmt: skip
+    p.add_argument(
+        "--parts", type=_parts, default=None, metavar="K|auto",
+        help="multi: the number of parts, or auto (default: chosen by its criterion, up to 4)",
     )  # fmt: skip
     p.add_argument(
         "--noise", type=float, default=None,
-        help="nML: the known relative sensor noise sigma_N (default: estimated from the data)",
+        help="nML, multi: the known relative sensor noise sigma_N (default: estimated)",
     )  # fmt: skip
     p.add_argument(
         "--free-space", action="store_true",
-        help="nML: keep the solid out of the file's `free_space` points (where the fingertip was)",
+        help="nML, multi: keep the solid out of the file's `free_space` points (where the "
+        "fingertip was)",
     )  # fmt: skip
     p.add_argument(
         "--contact-sigma", action="store_true",
@@ -423,8 +472,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.lazy_epilog = _explore_epilog
     p.add_argument(
         "--object", default="cube",
-        help="a body name, a superquadric .json, random, random_tapered or a mesh file "
-        "(.stl/.obj/.ply/.off); default cube (kinds below)",
+        help="a body name, a superquadric or union .json, random, random_tapered, "
+        "random_composite, a mesh file (.stl/.obj/.ply/.off) or pybullet:NAME; default cube "
+        "(kinds below)",
     )  # fmt: skip
     p.add_argument(
         "--scale", type=_positive_float, default=1.0,

@@ -1,22 +1,26 @@
-"""Objects from anywhere: body names, superquadric files, random shapes and mesh files.
+"""Objects from anywhere: body names, superquadric and union files, random shapes, mesh files and
+a library of real objects.
 
 An *object spec* names where an object comes from; :meth:`ObjectSpec.resolve` turns it into the
-ground truth posed in the world: a :class:`~hapticsim.geometry.Superquadric` or, for a mesh file,
-a :class:`~hapticsim.geometry.mesh_solid.MeshSolid`. The kinds (:data:`OBJECT_KINDS`):
+ground truth posed in the world, a solid (:class:`~hapticsim.geometry.solid.Solid`: a
+superquadric, a union of superquadrics or a mesh). The kinds (:data:`OBJECT_KINDS`):
 
-==================  ==========================================================================
-``body``            one of the paper's bodies by name (:data:`~hapticsim.data.bodies.BODY_NAMES`)
-``superquadric``    a superquadric JSON file (SPEC §6; a bare superquadric or a fit result)
-``random``          a random superquadric without taper, drawn from the seed
-``random_tapered``  a random tapered superquadric, drawn from the seed
-``mesh``            a mesh file (STL, OBJ, PLY or OFF, read by trimesh), metres times ``scale``
-==================  ==========================================================================
+====================  ========================================================================
+``body``              one of the paper's bodies by name (:data:`~hapticsim.data.bodies.BODY_NAMES`)
+``superquadric``      a JSON file: a superquadric (SPEC §6), a union (SPEC §10) or a fit result
+``random``            a random superquadric without taper, drawn from the seed
+``random_tapered``    a random tapered superquadric, drawn from the seed
+``random_composite``  a union of 2-4 overlapping random superquadrics (:func:`random_composite`)
+``mesh``              a mesh file (STL, OBJ, PLY or OFF, read by trimesh), metres times ``scale``
+``pybullet``          ``pybullet:NAME``, a model of the installed ``pybullet_data``
+                      (:mod:`hapticsim.data.library`, extra ``objects``)
+====================  ========================================================================
 
-Placement: a superquadric stands where its parameters put it (bodies and random shapes at the
-origin); a mesh is moved so that its centroid is at the origin. A :class:`Pose` places the object
-instead: ``x_world = R @ (scale * x_file) + t``, applied to the file's own coordinates (a mesh is
-then *not* re-centred). A mesh must be one closed (watertight) body; its faces are oriented
-outward if they are not.
+Placement: a superquadric or union stands where its parameters put it (bodies and random shapes
+at the origin); a mesh is moved so that its centroid is at the origin. A :class:`Pose` places
+the object instead: ``x_world = R @ (scale * x_file) + t``, applied to the file's own
+coordinates (a mesh is then *not* re-centred). A mesh must be one closed (watertight) body; its
+faces are oriented outward if they are not.
 
 Nothing here imports trimesh until a mesh is read or written.
 """
@@ -41,9 +45,11 @@ from hapticsim.geometry.solid import Solid
 Array = NDArray[np.float64]
 
 #: Object kinds an :class:`ObjectSpec` can name.
-OBJECT_KINDS: tuple[str, ...] = ("body", "superquadric", "random", "random_tapered", "mesh")
+OBJECT_KINDS: tuple[str, ...] = (
+    "body", "superquadric", "random", "random_tapered", "random_composite", "mesh", "pybullet"
+)  # fmt: skip
 #: Names of the random kinds (drawn from a seed).
-RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered")
+RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered", "random_composite")
 #: Mesh file formats (suffixes) read through trimesh.
 MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off")
 #: Default ranges of random superquadrics: semi-axes [m], exponents, tapers.
@@ -53,9 +59,9 @@ RANDOM_TAPER_RANGE: tuple[float, float] = (-0.4, 0.4)
 
 #: One line naming every object kind, for help texts.
 OBJECT_HELP: str = (
-    "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric .json file, "
-    "random / random_tapered (drawn from the seed), or a mesh file (.stl, .obj, .ply, .off; "
-    "metres unless scaled)"
+    "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric or union .json file, "
+    "random / random_tapered / random_composite (drawn from the seed), a mesh file (.stl, .obj, "
+    ".ply, .off; metres unless scaled), or pybullet:NAME (duck, random/017, ...; extra objects)"
 )
 
 Truth = Solid
@@ -101,6 +107,68 @@ def random_superquadric(
     eps = gen.uniform(e_lo, e_hi, size=2)
     taper = gen.uniform(t_lo, t_hi, size=2) if tapered else np.zeros(2)
     return Superquadric(a=a, eps=eps, taper=taper)
+
+
+#: Parts of a random composite (at least, at most).
+COMPOSITE_PARTS: tuple[int, int] = (2, 4)
+#: Semi-axis range [m] of a random composite's parts.
+COMPOSITE_A_RANGE: tuple[float, float] = (0.008, 0.03)
+#: Largest bounding radius [m] of a random composite (hand-held; the hand takes up to 0.12).
+COMPOSITE_RADIUS: float = 0.08
+#: Least share of each part's volume outside the other parts (every part shows).
+COMPOSITE_SHOWS: float = 0.4
+
+
+def random_composite(rng: np.random.Generator | int | None, parts: int | None = None) -> Any:
+    """A random union of overlapping superquadrics of hand-held size, volume centre at the origin.
+
+    Draws the number of parts (uniform in :data:`COMPOSITE_PARTS` unless given), then part by
+    part: semi-axes uniform in :data:`COMPOSITE_A_RANGE`, exponents uniform in [0.1, 1], a
+    uniformly random orientation, and, from the second part on, where it attaches: a point on
+    the surface of a part drawn before (uniform angles), its centre set back inside along that
+    point's normal so that 30-70 % of its extent in that direction lies inside. A draw whose union
+    is larger than :data:`COMPOSITE_RADIUS` or hides more than 1 - :data:`COMPOSITE_SHOWS` of a
+    part is drawn again, from the same generator (at most 200 times).
+
+    Args:
+        rng: seed or generator.
+        parts: the number of parts (2 to 4), or None to draw it.
+
+    Raises:
+        InvalidInputError: `parts` out of range, or no acceptable draw in 200.
+    """
+    from hapticsim.geometry import SuperquadricUnion, random_rotation
+
+    gen = as_generator(rng)
+    lo, hi = COMPOSITE_PARTS
+    if parts is not None and (not isinstance(parts, (int, np.integer)) or not lo <= parts <= hi):
+        raise InvalidInputError(f"`parts` must be an int in [{lo}, {hi}], got {parts!r}")
+    count = int(gen.integers(lo, hi + 1)) if parts is None else int(parts)
+    for _ in range(200):
+        shapes: list[Superquadric] = []
+        for k in range(count):
+            a = gen.uniform(*COMPOSITE_A_RANGE, size=3)
+            eps = gen.uniform(0.1, 1.0, size=2)
+            rotation = random_rotation(gen)
+            center = np.zeros(3)
+            if k:
+                host = shapes[int(gen.integers(k))]
+                eta, omega = gen.uniform(-np.pi / 2, np.pi / 2), gen.uniform(-np.pi, np.pi)
+                point, normal = (v[0] for v in host.surface(np.array([eta]), np.array([omega])))
+                part = Superquadric(a=a, eps=eps, rotation=rotation)
+                reach = 4.0 * part.bounding_radius  # its extent along the normal, by a ray
+                extent = reach - float(part.first_hits(reach * normal[None], -normal[None],
+                                                       reach, (64, 32))[0])  # fmt: skip
+                center = point - normal * extent * (1.0 - 2.0 * gen.uniform(0.3, 0.7))
+            shapes.append(Superquadric(a=a, eps=eps, rotation=rotation, center=center))
+        union = SuperquadricUnion(tuple(shapes))
+        shows = union._unique_volumes / np.array([p.volume for p in shapes])
+        if k and np.min(shows[1:]) < COMPOSITE_SHOWS:
+            continue
+        union = union.transformed(np.eye(3), -union.center)
+        if union.bounding_radius <= COMPOSITE_RADIUS:
+            return union
+    raise InvalidInputError("no acceptable random composite in 200 draws")
 
 
 @dataclass(frozen=True)
@@ -156,6 +224,10 @@ def _kind_of(source: str) -> str:
         return "body"
     if source in RANDOM_KINDS:
         return source
+    from hapticsim.data.library import PREFIX
+
+    if source.startswith(PREFIX):
+        return "pybullet"
     suffix = Path(source).suffix.lower()
     if suffix == ".json":
         return "superquadric"
@@ -174,8 +246,10 @@ class ObjectSpec:
     """Where an object comes from, and how it is scaled and placed.
 
     Attributes:
-        source: a body name, ``"random"``, ``"random_tapered"``, or the path of a superquadric
-            ``.json`` or a mesh file (``.stl``, ``.obj``, ``.ply``, ``.off``).
+        source: a body name, ``"random"``, ``"random_tapered"``, ``"random_composite"``, the
+            path of a superquadric or union ``.json`` or of a mesh file (``.stl``, ``.obj``,
+            ``.ply``, ``.off``), or ``pybullet:NAME`` (a library object, centred on its
+            centroid before `pose` places it).
         scale: factor from the file's units to metres (> 0): 0.001 for a mesh in millimetres.
         pose: placement of the object's own frame in the world (module docstring); None keeps
             a superquadric's own pose and puts a mesh's centroid at the origin.
@@ -208,8 +282,13 @@ class ObjectSpec:
 
     @property
     def name(self) -> str:
-        """A short label: the body or kind name, or the file's stem."""
-        return Path(self.source).stem if self.kind in ("superquadric", "mesh") else self.source
+        """A short label: the body or kind name, the file's stem, or a library object's name
+        (``/`` as ``-``)."""
+        if self.kind in ("superquadric", "mesh"):
+            return Path(self.source).stem
+        if self.kind == "pybullet":
+            return self.source.split(":", 1)[1].replace("/", "-")
+        return self.source
 
     @property
     def is_random(self) -> bool:
@@ -223,27 +302,37 @@ class ObjectSpec:
             rng: seed or generator of the random kinds (unused by the others).
 
         Returns:
-            a Superquadric, or a MeshSolid for a mesh file.
+            the solid: a Superquadric, a SuperquadricUnion, or a MeshSolid for a mesh.
 
         Raises:
             InvalidInputError: an unreadable, empty, open (not watertight) or multi-body mesh,
-                or a malformed superquadric file.
+                a malformed superquadric or union file, or a library object that cannot be read.
         """
-        if self.kind == "mesh":
-            solid = load_mesh(self.source, self.scale)
+        if self.kind in ("mesh", "pybullet"):
+            if self.kind == "mesh":
+                solid = load_mesh(self.source, self.scale)
+            else:
+                from hapticsim.data.library import load_library_object
+
+                solid = load_library_object(self.source.split(":", 1)[1], self.scale)
             if self.pose is None:
                 return solid.transformed(np.eye(3), -solid.centroid)
             return solid.transformed(self.pose.rotation, self.pose.position)
+        shape: Solid
         if self.kind == "body":
             from hapticsim.data.bodies import get_body
 
             shape = get_body(self.source)
         elif self.kind == "superquadric":
-            shape = Superquadric.from_json(self.source)
+            from hapticsim.geometry import solid_from_json
+
+            shape = solid_from_json(self.source)
+        elif self.kind == "random_composite":
+            shape = random_composite(rng)
         else:
             shape = random_superquadric(rng, tapered=self.kind == "random_tapered")
         if self.scale != 1.0:
-            shape = shape.replace(a=shape.a * self.scale, center=shape.center * self.scale)
+            shape = shape.scaled(self.scale)
         if self.pose is not None:
             shape = shape.transformed(self.pose.rotation, self.pose.position)
         return shape
@@ -383,6 +472,7 @@ __all__ = [
     "Truth",
     "as_spec",
     "load_mesh",
+    "random_composite",
     "random_superquadric",
     "resolve_object",
     "stl_bytes",

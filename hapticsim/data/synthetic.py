@@ -147,6 +147,83 @@ def paper_dataset(
     )
 
 
+def synthetic_dataset(
+    truth: Any,
+    noise: float = 0.1,
+    rng: np.random.Generator | int | None = None,
+    count: int = 150,
+) -> Contacts:
+    """A synthetic data set of a superquadric (:func:`paper_dataset`) or of a union of them.
+
+    A union's contacts are the paper's patterns on each of its parts, each part's share of the
+    contacts in proportion to its surface area outside the other parts; a contact that lands
+    inside another part (where the union has no surface) is dropped, and more are drawn until
+    `count` are left, of which `count` are kept at random (in pattern order). The noise is that
+    of SPEC §5 at the union's :attr:`~hapticsim.geometry.solid.Solid.size`. ``extra`` adds
+    ``part`` (n,) int, the part each contact was drawn on; ``pattern`` numbers the patterns of
+    part k from ``k * 5``.
+
+    Args:
+        truth: a :class:`~hapticsim.geometry.Superquadric` or a
+            :class:`~hapticsim.geometry.union.SuperquadricUnion`.
+        noise, rng, count: as :func:`paper_dataset`.
+
+    Raises:
+        InvalidInputError: another kind of solid (meshes: explore them with the hand), or bad
+            arguments.
+    """
+    from hapticsim.geometry.union import SuperquadricUnion
+
+    if isinstance(truth, Superquadric):
+        return paper_dataset(truth, noise, rng, count)
+    if not isinstance(truth, SuperquadricUnion):
+        raise InvalidInputError(
+            "synthetic contacts are drawn on superquadrics and unions of them (the paper's "
+            f"patterns), got {type(truth).__name__}: explore a mesh with the hand instead"
+        )
+    sigma = finite_float(noise, "noise", low=0.0)
+    n = positive_int(count, "count", minimum=MIN_COUNT, maximum=MAX_CONTACTS)
+    gen = as_generator(rng)
+    parts = truth.parts
+    # each part's visible share of the surface, from a surface sample of the union
+    _, visible = _visible_parts(truth, gen)
+    weights = np.maximum(np.bincount(visible, minlength=len(parts)), 1).astype(float)
+    factor = 1.0
+    while True:
+        counts = _allocate(int(np.ceil(n * factor)), list(weights))
+        chunks = []
+        for k, (part, c) in enumerate(zip(parts, counts, strict=True)):
+            if c < 1:
+                continue
+            patterns = [p for _, p in paper_patterns(part, max(c, MIN_COUNT))]
+            pts, nrm, pat = render(part, patterns, gen)
+            keep = np.ones(len(pts), dtype=bool)
+            for j, other in enumerate(parts):
+                if j != k:
+                    keep &= other.outside(pts)
+            chunks.append((pts[keep], nrm[keep], pat[keep] + 5 * k, np.full(keep.sum(), k)))
+        total = sum(len(c[0]) for c in chunks)
+        if total >= n:
+            break
+        factor *= 1.5 * n / max(total, 1)
+    pts, nrm, pat, part = (np.concatenate([c[i] for c in chunks]) for i in range(4))
+    pick = np.sort(gen.choice(len(pts), size=n, replace=False))
+    points_clean, normals_clean = pts[pick], nrm[pick]
+    points, normals = add_noise(points_clean, normals_clean, sigma, truth.size, gen)
+    return Contacts(
+        points=points,
+        normals=normals,
+        extra={"points_clean": points_clean, "normals_clean": normals_clean,
+               "pattern": pat[pick], "part": part[pick]},  # fmt: skip
+    )
+
+
+def _visible_parts(truth: Any, gen: np.random.Generator) -> tuple[Array, NDArray[np.int64]]:
+    """A surface sample of a union and the part each point lies on."""
+    pts, _ = truth.sample_surface(4000, gen)
+    return pts, truth.part_of(pts)
+
+
 __all__ = [
     "CORNER_ETA",
     "MIN_COUNT",
@@ -154,4 +231,5 @@ __all__ = [
     "is_prismatic",
     "paper_dataset",
     "paper_patterns",
+    "synthetic_dataset",
 ]

@@ -25,13 +25,15 @@ from numpy.typing import NDArray
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.eof import contact_residuals
+from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
 #: What a fit update did.
 FIT_STATUSES: tuple[str, ...] = ("too_few_contacts", "full", "refine", "kept", "failed")
-#: Fitting methods with normals (SPEC §3); the environment always measures normals.
-_METHODS: tuple[str, ...] = ("nH", "nLS", "H", "LS")
+#: Fitting methods (SPEC §3; the environment always measures normals); ``multi`` for full fits
+#: only (:mod:`hapticsim.fitting.multi`).
+_METHODS: tuple[str, ...] = ("nH", "nLS", "H", "LS", "multi")
 
 
 @dataclass(frozen=True)
@@ -39,8 +41,12 @@ class FitSchedule:
     """When and how the environment refits.
 
     Attributes:
-        method: method of the full fits (SPEC §3), default ``"nH"``.
-        refine_method: method of the warm-started refinements, default ``"nLS"``.
+        method: method of the full fits (SPEC §3), default ``"nH"``; ``"multi"`` fits a union
+            of superquadrics (:mod:`hapticsim.fitting.multi`): the estimate is then its one-part
+            candidate (what the observation shows and refinements start from) and the solid
+            scored is the union of the last full fit.
+        refine_method: method of the warm-started refinements, default ``"nLS"`` (not
+            ``"multi"``).
         full_every: a full fit at least every this many touches after the previous full one; 1
             makes every fit full.
         surprise: a full fit when the new contacts' RMS residual on the current estimate exceeds
@@ -71,6 +77,8 @@ class FitSchedule:
                 raise InvalidInputError(
                     f"`{name}` must be one of {_METHODS}, got {getattr(self, name)!r}"
                 )
+        if self.refine_method == "multi":
+            raise InvalidInputError("`refine_method` must fit one superquadric, not 'multi'")
         if isinstance(self.full_every, bool) or int(self.full_every) < 1:
             raise InvalidInputError(f"`full_every` must be an int >= 1, got {self.full_every!r}")
         for name in ("full_budget", "refine_budget"):
@@ -102,6 +110,8 @@ class FitUpdate:
         evaluations: EOF evaluations the update used.
         seconds: wall-clock time of the update [s].
         message: the fitter's complaint when ``status == "failed"``.
+        solid: the estimated solid: `estimate` itself, or with ``multi`` full fits the union
+            of the last one (None before the first fit).
     """
 
     estimate: Superquadric | None
@@ -110,6 +120,11 @@ class FitUpdate:
     evaluations: int = 0
     seconds: float = 0.0
     message: str = ""
+    solid: Solid | None = None
+
+    def __post_init__(self) -> None:
+        if self.solid is None and self.estimate is not None:
+            object.__setattr__(self, "solid", self.estimate)
 
 
 class IncrementalFitter:
@@ -126,6 +141,7 @@ class IncrementalFitter:
     def reset(self) -> None:
         """Forget the estimate (new episode)."""
         self.estimate: Superquadric | None = None
+        self.solid: Solid | None = None
         self.eof = 0.0
         self._touches_since_full = 0
 
@@ -159,7 +175,7 @@ class IncrementalFitter:
             return FitUpdate(None, 0.0, "too_few_contacts")
         self._touches_since_full += 1
         if self.estimate is not None and new_contacts <= 0:
-            return FitUpdate(self.estimate, self.eof, "kept")
+            return FitUpdate(self.estimate, self.eof, "kept", solid=self.solid)
         full = self.estimate is None or self._touches_since_full >= sched.full_every
         if not full:
             rms_new = self._rms(points[-new_contacts:], normals[-new_contacts:])
@@ -169,7 +185,8 @@ class IncrementalFitter:
             if not full and rms_new <= sched.keep * rms_fit:
                 # The new contacts agree with the estimate as well as the old ones: keep it.
                 self.eof = self._rms(points, normals) ** 2
-                return FitUpdate(self.estimate, self.eof, "kept", 1, time.perf_counter() - start)
+                return FitUpdate(self.estimate, self.eof, "kept", 1, time.perf_counter() - start,
+                                 solid=self.solid)  # fmt: skip
         seed = int(rng.integers(2**31 - 1))
         method = sched.method if full else sched.refine_method
         budget = sched.full_budget if full else sched.refine_budget
@@ -179,13 +196,17 @@ class IncrementalFitter:
             )
         except HapticsimError as exc:
             return FitUpdate(
-                self.estimate, self.eof, "failed", 0, time.perf_counter() - start, str(exc)
-            )
+                self.estimate, self.eof, "failed", 0, time.perf_counter() - start, str(exc),
+                self.solid,
+            )  # fmt: skip
         if full:
             self._touches_since_full = 0
         self.estimate = result.superquadric
+        # multi's union stays until its next full fit; a single superquadric is its own solid
+        if full or sched.method != "multi":
+            self.solid = result.solid
         self.eof = float(result.eof)
         return FitUpdate(
             self.estimate, self.eof, "full" if full else "refine", int(result.evaluations),
-            time.perf_counter() - start,
+            time.perf_counter() - start, solid=self.solid,
         )  # fmt: skip

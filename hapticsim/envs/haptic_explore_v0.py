@@ -388,8 +388,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     (``ok``, ``missed``, ``blocked``, ``failed``), ``fit_status`` (``too_few_contacts``, ``full``,
     ``refine``, ``kept``, ``failed``), ``fit_eof`` [m^2], ``fit_evaluations``; ``timings``
     (:class:`StepTimings`: touch, fit, metrics, step [s]);
-    ``estimate`` (:class:`~hapticsim.geometry.Superquadric`) and ``truth`` (the solid, world
-    frame),
+    ``estimate`` (:class:`~hapticsim.geometry.Superquadric`), ``solid`` (what is scored: the
+    estimate, or a ``multi`` schedule's union) and ``truth`` (the solid, world frame),
     ``origin`` (rough position [m, world]), ``uncertainty`` (reward ``"uncertainty"`` only).
     All contacts, with fingers, forces [N] (MuJoCo; 0 on the analytic backend), times [s] and
     clean values, are in :attr:`contacts`.
@@ -467,7 +467,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._touches = 0
         self._update = FitUpdate(None, 0.0, "too_few_contacts")
         self._metrics = _NO_FIT_METRICS.copy()
-        self._scored: Superquadric | None = None
+        self._scored: Solid | None = None
         self._progress = 1.0  # the quantity whose drop is the reward
 
     @property
@@ -491,6 +491,12 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def estimate(self) -> Superquadric | None:
         """The current estimate (world frame), None before the first fit."""
         return self._update.estimate
+
+    @property
+    def solid(self) -> Solid | None:
+        """The estimated solid scored each step: the estimate, or with a ``multi`` fit schedule
+        the union of its last full fit (:class:`~hapticsim.envs.estimator.FitSchedule`)."""
+        return self._update.solid
 
     @property
     def contacts(self):  # noqa: ANN201 - hapticsim.data.io.Contacts
@@ -573,7 +579,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._update = self._fitter.update(pts, nrm, self._fit_rng, new_contacts=len(result))
         metric_start = time.perf_counter()
         if self.config.compute_metrics:
-            self._metrics = self._score(self._update.estimate)
+            self._metrics = self._score(self._update.solid)
         metric_seconds = time.perf_counter() - metric_start
 
         progress = self._progress_value(pts)
@@ -603,7 +609,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         super().close()
 
     # ------------------------------------------------------------------ internals
-    def _score(self, estimate: Superquadric | None) -> dict[str, float]:
+    def _score(self, estimate: Solid | None) -> dict[str, float]:
         if estimate is None:
             return _NO_FIT_METRICS.copy()
         if estimate is self._scored:  # kept estimate: same score
@@ -676,6 +682,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 float(step_seconds),
             ),
             estimate=self._update.estimate,
+            solid=self._update.solid,
             truth=self._truth,
             origin=self._origin.copy(),
         )

@@ -21,13 +21,13 @@ from typing import Any
 import numpy as np
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
-from hapticsim.data.objects import ObjectSpec, as_spec, random_superquadric
+from hapticsim.data.objects import ObjectSpec, as_spec, random_composite, random_superquadric
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric, rotvec_to_matrix
+from hapticsim.geometry import rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
 
 #: Kinds of object distributions.
-OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered")
+OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered", "random_composite")
 
 
 def _check_range(name: str, value: tuple[float, float], low: float, high: float) -> None:
@@ -48,7 +48,9 @@ class ObjectDistribution:
 
     Attributes:
         kind: ``"paper"`` (the paper's four bodies, :mod:`hapticsim.data.bodies`), ``"random"``
-            (random superquadrics without taper) or ``"random_tapered"``.
+            (random superquadrics without taper), ``"random_tapered"`` or ``"random_composite"``
+            (unions of 2-4 random superquadrics, :func:`hapticsim.data.objects.random_composite`;
+            the ranges below are for the single superquadrics).
         bodies: for ``"paper"``, the body names to draw from uniformly (default: all four).
         a_range: semi-axis range (low, high) [m] of random objects.
         eps_range: exponent range (low, high) of random objects, within [0.1, 2.0].
@@ -90,7 +92,7 @@ class ObjectDistribution:
         """What the environment's ``objects=`` accepts (see :func:`coerce_objects`)."""
         return coerce_objects(value)
 
-    def sample(self, rng: np.random.Generator) -> Superquadric:
+    def sample(self, rng: np.random.Generator) -> Solid:
         """Draw one object.
 
         Args:
@@ -103,7 +105,9 @@ class ObjectDistribution:
         if self.kind == "paper":
             from hapticsim.data.bodies import get_body
 
-            shape = get_body(self.bodies[int(rng.integers(len(self.bodies)))])
+            shape: Solid = get_body(self.bodies[int(rng.integers(len(self.bodies)))])
+        elif self.kind == "random_composite":
+            shape = random_composite(rng)
         else:
             shape = random_superquadric(
                 rng, self.kind == "random_tapered", self.a_range, self.eps_range, self.taper_range
@@ -165,7 +169,8 @@ def coerce_objects(value: Any) -> ObjectDistribution | ObjectSet:
 
     Args:
         value: an :class:`ObjectDistribution` or :class:`ObjectSet` (as they are); a kind name
-            (:data:`OBJECT_KINDS`: ``"paper"``, ``"random"``, ``"random_tapered"``); any other
+            (:data:`OBJECT_KINDS`: ``"paper"``, ``"random"``, ``"random_tapered"``,
+            ``"random_composite"``); any other
             single object (a body name, a file path, an ObjectSpec or a solid); or a list or
             tuple of objects.
 

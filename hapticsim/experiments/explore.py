@@ -84,7 +84,9 @@ def explore(
         object_name: the object: a paper body name, a superquadric ``.json``, ``random`` or
             ``random_tapered`` (drawn from `seed`), a mesh file (``.stl``, ``.obj``, ``.ply``,
             ``.off``), or an :class:`~hapticsim.data.objects.ObjectSpec`.
-        strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``).
+        strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``), or an
+            environment policy choosing each touch from what was felt (``uncertainty``,
+            ``learned``, ``learned:PATH``, ``random``: :mod:`hapticsim.envs.exploration`).
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
         method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``, or ``nML`` (which also keeps
             the solid :data:`FREE_MARGIN` fingertip radii away from the fingertip centres along
@@ -137,9 +139,11 @@ def explore(
         spec = object_name
     else:
         spec = ObjectSpec(object_name, scale=scale, pose=pose)
+    from hapticsim.envs.exploration import is_policy_strategy
     from hapticsim.sim.strategies import get_strategy
 
-    get_strategy(strategy)
+    if not is_policy_strategy(strategy):
+        get_strategy(strategy)
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     sigma = finite_float(noise, "noise", low=0.0)
@@ -180,6 +184,7 @@ def _explore(
     from hapticsim.data.io import FREE_SPACE_KEY
     from hapticsim.data.noise import add_noise
     from hapticsim.data.objects import truth_file as truth_file_of
+    from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
     from hapticsim.experiments.explore_report import (
         exploration_figure_png,
         png_bytes,
@@ -216,9 +221,13 @@ def _explore(
 
     try:
         try:
-            run = run_exploration(truth, strategy, count, sim_rng, scene_config=scene_config,
-                                  progress=on_progress, on_pattern_end=on_pattern_end,
-                                  video=video)  # fmt: skip
+            if is_policy_strategy(strategy):  # an environment policy chooses every touch
+                run = run_policy_exploration(truth, strategy, count, sim_rng, scene_config,
+                                             progress=on_progress, video=video)  # fmt: skip
+            else:
+                run = run_exploration(truth, strategy, count, sim_rng, scene_config=scene_config,
+                                      progress=on_progress, on_pattern_end=on_pattern_end,
+                                      video=video)  # fmt: skip
         except SimulationError as exc:
             raise SimulationError(
                 f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
@@ -245,24 +254,24 @@ def _explore(
         ml = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
         if tactile:  # each estimate weighs in by its own uncertainties
             ml["sigma"], ml["sigma_normal"] = a["sigma"], a["sigma_normal"]
-        result = fit(points, normals, method=method, rng=fit_seed,
-                     **(ml if method == "nML" else {}))  # fmt: skip
+        extra = ml if method == "nML" else {"free": free_space} if method == "multi" else {}
+        result = fit(points, normals, method=method, rng=fit_seed, **extra)
         bar.set_postfix_str("scoring")
-        quality = score(result.superquadric, truth, rng=seed)
+        estimate = result.solid  # multi's union; the superquadric of every other method
+        quality = score(estimate, truth, rng=seed)
         accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
         accuracy_exact = (
             contact_accuracy(truth, a["points_exact"], a["normals_exact"]) if tactile else None
         )
-        th = (  # theta needs the EOF of the true superquadric: undefined for other solids
-            float(theta(result.superquadric, truth, points,
-                        normals if uses_normals(method) else None))
-            if isinstance(truth, Superquadric)
+        th = (  # theta needs the EOFs of superquadrics: undefined for other solids
+            float(theta(estimate, truth, points, normals if uses_normals(method) else None))
+            if isinstance(truth, Superquadric) and isinstance(estimate, Superquadric)
             else None
         )  # fmt: skip
         truth_file = truth_file_of(truth)
         sensed = f", {scene_config.skin.name} skin" if tactile else ""
         report = exploration_figure_png(
-            truth, result.superquadric, a["points_clean"], a["normals_clean"], a["finger"],
+            truth, estimate, a["points_clean"], a["normals_clean"], a["finger"],
             f"{object_name}, {strategy} exploration ({run.count} contacts{sensed}, sigma_N = "
             f"{sigma}), {method} fit: epsilon = {quality.epsilon:.3f}",
             tactile=_report_images(run) if tactile else None,

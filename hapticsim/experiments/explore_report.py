@@ -16,6 +16,8 @@ Array = NDArray[np.float64]
 #: Colour per finger index (thumb, index, middle, ring).
 FINGER_COLORS: tuple[str, ...] = ("tab:green", "tab:red", "tab:purple", "tab:brown")
 FINGER_LABELS: tuple[str, ...] = ("thumb", "index", "middle", "ring")
+#: Colours of an estimate's parts (a union's; one part is orange).
+PART_COLORS: tuple[str, ...] = ("tab:orange", "gold", "tab:pink", "tab:cyan", "tab:olive")
 
 
 def _surface(ax: Any, shape: Solid, color: str, alpha: float, resolution: int = 40) -> None:
@@ -47,7 +49,7 @@ def exploration_figure_png(
 
     Args:
         truth: the true object (any solid).
-        estimate: the fitted superquadric, or None.
+        estimate: the fitted solid (a union's parts each in its colour), or None.
         points_world: (n, 3) float, contact points [m].
         normals_world: (n, 3) float, outward unit normals.
         finger: (n,) int, finger of each contact (colours).
@@ -70,13 +72,17 @@ def exploration_figure_png(
     half = _half_width(truth)
     center = truth.center * 1000.0
     arrow = 0.25 * half
-    for k, (panel, show_estimate) in enumerate(
-        (("contacts and normals", False), ("estimate (orange) over truth (blue)", True))
-    ):
+    parts = () if estimate is None else estimate.components
+    shown = (
+        "estimate (orange) over truth (blue)" if len(parts) <= 1
+        else f"estimate ({len(parts)} parts, each its colour) over truth (blue)"
+    )  # fmt: skip
+    for k, (panel, show_estimate) in enumerate((("contacts and normals", False), (shown, True))):
         ax = fig.add_subplot(top[0, k], projection="3d")
         _surface(ax, truth, "tab:blue", 0.18 if show_estimate else 0.25)
-        if show_estimate and estimate is not None:
-            _surface(ax, estimate, "tab:orange", 0.35)
+        if show_estimate:
+            for j, part in enumerate(parts):
+                _surface(ax, part, PART_COLORS[j % len(PART_COLORS)], 0.35)
         for f in np.unique(finger):
             sel = finger == f
             color = FINGER_COLORS[int(f) % len(FINGER_COLORS)]

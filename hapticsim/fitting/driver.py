@@ -66,8 +66,10 @@ def fit(
     options: MLOptions | None = None,
     sigma: Any | None = None,
     sigma_normal: Any | None = None,
+    parts: int | str | None = None,
 ) -> FitResult:
-    """Fit a superquadric to contact points (and normals) with the paper's methods or nML.
+    """Fit a superquadric to contact points (and normals) with the paper's methods or nML, or a
+    union of superquadrics with ``multi``.
 
     Args:
         points: (n, 3) float, contact locations [m, world], n >= 13 (one per parameter), finite,
@@ -75,7 +77,9 @@ def fit(
         normals: (n, 3) float outward normals (normalised here), needed by nLS and nH; LS and H
             ignore them (they are still checked when given).
         method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"`` (SPEC §3), or ``"nML"``, the
-            maximum-likelihood fit for noisy data (:mod:`hapticsim.fitting.ml`; needs normals).
+            maximum-likelihood fit for noisy data (:mod:`hapticsim.fitting.ml`; needs normals),
+            or ``"multi"``, a union of superquadrics (:mod:`hapticsim.fitting.multi`; needs
+            normals; its one-part candidate is nH with this budget and seed).
         budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
         rng: seed or generator of the genetic algorithm; the same seed gives the same result,
             bit for bit.
@@ -87,11 +91,12 @@ def fit(
             :func:`hapticsim.geometry.eof.contact_residuals`). The reported ``eof`` is always
             the SPEC §2 EOF of the estimate. nML measures orthogonal distances instead and
             ignores it (and `lam`).
-        noise: nML only: the known relative sensor noise sigma_N (SPEC §5), finite and >= 0;
-            None (default) estimates it from the residuals (reported in the result's ``noise``).
-        free: nML only: (f, 3) float free-space points [m, world], where the fingertip has
-            been (its centre at the contacts, its approach path), which must lie outside the
-            solid; None for none.
+        noise: nML and multi: the known relative sensor noise sigma_N (SPEC §5), finite and
+            >= 0; None (default) estimates it from the residuals (nML reports it in the
+            result's ``noise``; multi's criterion uses it).
+        free: nML and multi: (f, 3) float free-space points [m, world], where the fingertip
+            has been (its centre at the contacts, its approach path), which must lie outside
+            the solid (multi: every part); None for none.
         options: nML only: its settings (default :class:`~hapticsim.fitting.ml.MLOptions`).
         sigma: nML only: (n,) float, each contact's standard deviation per coordinate [m], > 0
             (a tactile skin's estimate, ``contacts.npz``'s ``sigma``): the contacts' relative
@@ -99,6 +104,9 @@ def fit(
         sigma_normal: nML only, with `sigma`: (n,) float, each normal's standard deviation
             [rad], > 0 (``contacts.npz``'s ``sigma_normal``): the normals' relative weights,
             and their level against the points' (SPEC §5's ``1 / mean(a)`` without it).
+        parts: multi only: the number of parts, an int from 1 to :data:`MAX_FIT_PARTS`, or
+            ``"auto"``/None (default) to choose up to
+            :data:`~hapticsim.fitting.multi.MAX_PARTS` by the criterion.
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -121,12 +129,16 @@ def fit(
     if distance not in DISTANCES:
         raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
     ml = method == "nML"
-    if not ml and (noise is not None or free is not None or options is not None
-                   or sigma is not None or sigma_normal is not None):  # fmt: skip
+    multi = method == "multi"
+    if not ml and (options is not None or sigma is not None or sigma_normal is not None):
         raise InvalidInputError(
-            "`noise`, `free`, `options`, `sigma` and `sigma_normal` are for method nML only, "
-            f"got method {method}"
+            f"`options`, `sigma` and `sigma_normal` are for method nML only, got method {method}"
         )
+    if not (ml or multi) and (noise is not None or free is not None):
+        raise InvalidInputError(
+            f"`noise` and `free` are for methods nML and multi only, got method {method}"
+        )
+    part_count = _parts_arg(parts, multi)
     noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
     if options is not None and not isinstance(options, MLOptions):
@@ -151,6 +163,9 @@ def fit(
         raise InvalidInputError(f'`budget` must be >= 2 with distance="{distance}", got {n_evals}')
 
     start = time.perf_counter()
+    if multi:
+        return _fit_multi(pts, nrm, n_evals, gen, weight, warm, distance, noise_level, free_pts,
+                          part_count, start)  # fmt: skip
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
     run = None
@@ -186,6 +201,63 @@ def fit(
         status=status,
         message=_MESSAGES[status],
         noise=None if run is None else run.noise,
+    )
+
+
+#: Most parts ``fit(..., method="multi", parts=K)`` takes.
+MAX_FIT_PARTS: int = 16
+
+
+def _parts_arg(parts: Any, multi: bool) -> int | None:
+    """`parts` as a count, or None for "auto"."""
+    if parts is None or parts == "auto":
+        return None
+    if not multi:
+        raise InvalidInputError("`parts` is for method multi only")
+    if isinstance(parts, bool) or not isinstance(parts, (int, np.integer)):
+        raise InvalidInputError(f"`parts` must be an int or 'auto', got {parts!r}")
+    if not 1 <= int(parts) <= MAX_FIT_PARTS:
+        raise InvalidInputError(f"`parts` must be in [1, {MAX_FIT_PARTS}] or 'auto', got {parts}")
+    return int(parts)
+
+
+def _fit_multi(
+    pts: Array, nrm: Array, budget: int, gen: np.random.Generator, lam: float,
+    warm: Superquadric | None, distance: str, noise: float | None, free: Array | None,
+    parts: int | None, start: float,
+) -> FitResult:  # fmt: skip
+    """multi: nH's one-part fit, then :func:`~hapticsim.fitting.multi.multi_search`."""
+    from hapticsim.fitting.multi import multi_search
+    from hapticsim.geometry.eof import ContactSet
+    from hapticsim.geometry.union import SuperquadricUnion
+
+    single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)
+    if parts == 1:
+        vectors, selection = [single.superquadric.to_vector()], {
+            "parts": 1, "criterion": "one part asked for", "candidates": []}  # fmt: skip
+    else:
+        def part_fit(p: Array, n: Array, evals: int, rng: np.random.Generator) -> FitResult:
+            return fit(p, n, "nH", evals, rng, lam)
+
+        vectors, selection = multi_search(pts, nrm, single.superquadric, gen, part_fit, parts,
+                                          noise, free)  # fmt: skip
+    shapes = (  # one part: nH's own superquadric, not its round trip through a vector
+        (single.superquadric,) if len(vectors) == 1
+        else tuple(Superquadric.from_vector(v) for v in vectors)
+    )  # fmt: skip
+    contacts = ContactSet.from_arrays(pts, nrm)
+    r = contacts.residuals(np.array(vectors), lam, tapered=False)  # the parts' SPEC EOF terms
+    return FitResult(
+        superquadric=single.superquadric,
+        method="multi",
+        eof=float(np.mean(np.min(r**2, axis=0))),
+        evaluations=single.evaluations + int(selection.pop("evaluations", 0)),
+        seconds=time.perf_counter() - start,
+        history=single.history,
+        status=single.status,
+        message=f"{len(shapes)} part(s) by {selection['criterion']}",
+        solid=SuperquadricUnion(shapes),
+        selection=selection,
     )
 
 

@@ -10,18 +10,19 @@ name     data              minimiser
 =======  ================  ==========================================================
 
 Beyond the paper, :data:`FIT_METHODS` adds ``nML`` (points, normals, optionally free space): the
-hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.ml`). The paper
-reproduction compares :data:`METHODS` only.
+hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.ml`), and
+``multi`` (points, normals): a union of 1..K superquadrics (:mod:`hapticsim.fitting.multi`,
+SPEC §10). The paper reproduction compares :data:`METHODS` only.
 """
 
 from __future__ import annotations
 
 #: Method names, in the paper's order.
 METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
-#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML.
-FIT_METHODS: tuple[str, ...] = (*METHODS, "nML")
+#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML and multi.
+FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi")
 #: Methods whose objective uses the contact normals.
-NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML"})
+NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi"})
 #: Methods with the genetic algorithm.
 HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH", "nML"})
 #: Default evaluation budget of every method (EOF evaluations, SPEC §3). With the compiled
@@ -37,5 +38,5 @@ PAPER_BUDGET: int = 5000
 
 
 def uses_normals(method: str) -> bool:
-    """Whether `method` fits the normals too (nLS, nH, nML)."""
+    """Whether `method` fits the normals too (nLS, nH, nML, multi)."""
     return method in NORMAL_METHODS

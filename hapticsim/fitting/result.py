@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
 
 #: Values of :attr:`FitResult.status`.
@@ -17,10 +18,10 @@ STATUSES: tuple[str, ...] = ("converged", "budget", "stall", "generations", "tar
 
 @dataclass(frozen=True, eq=False)
 class FitResult:
-    """A fitted superquadric and how it was found.
+    """A fitted superquadric (or union) and how it was found.
 
     Attributes:
-        superquadric: the estimate.
+        superquadric: the estimate; for ``multi``, its one-part candidate (nH's fit).
         method: the method name (one of :data:`hapticsim.fitting.methods.METHODS`).
         eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H).
         evaluations: EOF evaluations used (SPEC §3), <= the budget.
@@ -34,6 +35,10 @@ class FitResult:
         message: a sentence on the same.
         noise: nML only: the relative noise level sigma_N its weights used (given, or estimated
             from the residuals); None for the paper's methods.
+        solid: the estimated solid (SPEC §10): the superquadric itself (default, None given),
+            or ``multi``'s union.
+        selection: ``multi`` only: how the number of parts was chosen
+            (:func:`hapticsim.fitting.multi.multi_search`), else None.
     """
 
     superquadric: Superquadric
@@ -45,12 +50,18 @@ class FitResult:
     status: str
     message: str = ""
     noise: float | None = None
+    solid: Solid | None = None
+    selection: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.superquadric, Superquadric):
             raise InvalidInputError(
                 f"`superquadric` must be a Superquadric, got {type(self.superquadric).__name__}"
             )
+        if self.solid is None:
+            object.__setattr__(self, "solid", self.superquadric)
+        elif not isinstance(self.solid, Solid):
+            raise InvalidInputError(f"`solid` must be a solid, got {type(self.solid).__name__}")
         if self.status not in STATUSES:
             raise InvalidInputError(f"`status` must be one of {STATUSES}, got {self.status!r}")
         evals, best = (np.asarray(h) for h in self.history)
@@ -67,12 +78,17 @@ class FitResult:
         object.__setattr__(self, "seconds", float(self.seconds))
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``, and
-        ``status`` and ``message``, and ``noise`` for nML (the history is left out: see
-        :attr:`history`)."""
-        extra = {} if self.noise is None else {"noise": float(self.noise)}
+        """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``,
+        ``solid`` (SPEC §10: the superquadric again, or multi's union), ``status`` and
+        ``message``, ``noise`` for nML and ``selection`` for multi (the history is left out:
+        see :attr:`history`)."""
+        extra: dict[str, Any] = {} if self.noise is None else {"noise": float(self.noise)}
+        if self.selection is not None:
+            extra["selection"] = self.selection
+        assert self.solid is not None
         return {
             "superquadric": self.superquadric.to_dict(),
+            "solid": self.solid.to_dict(),
             "method": self.method,
             "eof": self.eof,
             "evaluations": self.evaluations,

@@ -21,8 +21,9 @@ What a solid answers (points and normals are (n, 3) float [m, world]):
   :attr:`bounds`, :attr:`size` (the length of SPEC §5's relative noise);
 - **meshes and pieces**: :meth:`surface_mesh` (vertices and faces of the surface, for pictures
   and depth images) and :meth:`convex_pieces` (the convex parts MuJoCo collides with);
-- **placement**: :meth:`transformed`, :attr:`pose` and :meth:`shape_key` (what identifies the
-  shape apart from its pose, for caches of compiled scenes), :meth:`support_half_widths`;
+- **placement**: :meth:`transformed`, :meth:`scaled`, :attr:`pose` and :meth:`shape_key` (what
+  identifies the shape apart from its pose, for caches of compiled scenes),
+  :meth:`support_half_widths`;
 - **files**: :meth:`to_dict` (its JSON) and :attr:`kind`.
 
 numpy only (trimesh, scipy and coacd are imported where a kind needs them).
@@ -198,6 +199,12 @@ class Solid(ABC):
         the body frame's position (3,) and rotation (3, 3) in the world, and how they were made.
         """
 
+    @property
+    def components(self) -> tuple[Solid, ...]:
+        """The solids this one is the union of, for pictures that colour them apart (default:
+        itself; a union: its parts)."""
+        return (self,)
+
     def to_trimesh(self, resolution: int = 40) -> Any:
         """A ``trimesh.Trimesh`` of :meth:`surface_mesh`."""
         import trimesh
@@ -209,6 +216,10 @@ class Solid(ABC):
     @abstractmethod
     def transformed(self, rotation: Array, translation: Array) -> Solid:
         """The same solid moved rigidly: ``x -> rotation @ x + translation``."""
+
+    @abstractmethod
+    def scaled(self, factor: float) -> Solid:
+        """The solid scaled about the world origin by `factor` (> 0): ``x -> factor * x``."""
 
     @property
     def pose(self) -> tuple[Array, Array]:

@@ -238,6 +238,12 @@ class Superquadric(Solid):
         t = finite_array(translation, "translation", (3,))
         return self.replace(rotation=rot @ self.rotation, center=rot @ self.center + t)
 
+    def scaled(self, factor: float) -> Superquadric:
+        """The superquadric scaled about the world origin: semi-axes and centre times `factor`
+        (> 0); exponents, tapers and orientation stay."""
+        f = _positive_factor(factor)
+        return self.replace(a=self.a * f, center=self.center * f)
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Superquadric):
             return NotImplemented
@@ -565,6 +571,17 @@ class Superquadric(Solid):
         from hapticsim.geometry.mesh import superquadric_mesh
 
         return superquadric_mesh(self, resolution=resolution, parametrization=parametrization)
+
+
+def _positive_factor(factor: Any) -> float:
+    """`factor` as a finite float > 0, else InvalidInputError."""
+    try:
+        f = float(factor)
+    except (TypeError, ValueError):
+        f = float("nan")
+    if not np.isfinite(f) or f <= 0:
+        raise InvalidInputError(f"`factor` must be a finite number > 0, got {factor!r}")
+    return f
 
 
 def superquadric_arg(value: Any, name: str) -> Superquadric:

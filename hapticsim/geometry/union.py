@@ -118,6 +118,11 @@ class SuperquadricUnion(Solid):
     def __hash__(self) -> int:
         return hash(self.shape_key())
 
+    @property
+    def components(self) -> tuple[Solid, ...]:
+        """Its parts."""
+        return self.parts
+
     # ----------------------------------------------------------------- membership
     def _log_f(self, points_world: Array) -> Array:
         """(parts, n) log inside-outside value of every part."""
@@ -343,7 +348,18 @@ class SuperquadricUnion(Solid):
 
     # ----------------------------------------------------------------- placement
     def transformed(self, rotation: Array, translation: Array) -> SuperquadricUnion:
-        return SuperquadricUnion(tuple(p.transformed(rotation, translation) for p in self.parts))
+        moved = SuperquadricUnion(tuple(p.transformed(rotation, translation) for p in self.parts))
+        if "_unique_volumes" in self.__dict__:  # a rigid motion keeps the measured overlaps
+            moved.__dict__["_unique_volumes"] = self._unique_volumes
+        return moved
+
+    def scaled(self, factor: float) -> SuperquadricUnion:
+        grown = SuperquadricUnion(tuple(p.scaled(factor) for p in self.parts))
+        if "_unique_volumes" in self.__dict__:
+            volumes = self._unique_volumes * float(factor) ** 3
+            volumes.setflags(write=False)
+            grown.__dict__["_unique_volumes"] = volumes
+        return grown
 
     def shape_key(self) -> bytes:
         digest = hashlib.sha1()

@@ -31,6 +31,7 @@ def test_kinds_are_recognised(tmp_path: Path) -> None:
     kinds = {
         "cube": "body", "random": "random", "random_tapered": "random_tapered",
         str(tmp_path / "cube.json"): "superquadric", str(tmp_path / "part.stl"): "mesh",
+        "random_composite": "random_composite", "pybullet:duck": "pybullet",
     }  # fmt: skip
     for source, kind in kinds.items():
         assert ObjectSpec(source).kind == kind

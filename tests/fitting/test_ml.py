@@ -138,7 +138,7 @@ def test_bad_input() -> None:
     _, data = _data("cube", 0.05, 4)
     with pytest.raises(InvalidInputError, match="normals"):
         fit(data.points, method="nML")
-    with pytest.raises(InvalidInputError, match="nML only"):
+    with pytest.raises(InvalidInputError, match="nML and multi only"):
         fit(data.points, data.normals, method="nH", noise=0.1)
     with pytest.raises(InvalidInputError, match="noise"):
         fit(data.points, data.normals, method="nML", noise=-1.0)
@@ -171,7 +171,7 @@ def test_cli_fit_nml_with_noise_and_free_space(tmp_path, capsys) -> None:  # noq
     err = capsys.readouterr().err.strip()
     assert "free_space" in err and "\n" not in err
     assert main(["fit", str(plain), "--method", "nH", "--noise", "0.1"]) == 2
-    assert "nML only" in capsys.readouterr().err
+    assert "nML and multi only" in capsys.readouterr().err
 
 
 def test_per_contact_sigma_weighs_the_contacts() -> None:
