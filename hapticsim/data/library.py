@@ -10,7 +10,10 @@ distributed under the zlib license (bullet3's ``LICENSE.txt``; a few model folde
 An object is named ``pybullet:NAME`` (:data:`PREFIX`): NAME is an alias (:data:`ALIASES`:
 ``duck``, ``teddy``, ``lego``, ``jenga``, ``domino``, ``soccerball``, ``mug``), ``random/NNN``
 (a procedural object), or a URDF or mesh file's path inside ``pybullet_data``. A URDF gives the
-mesh of its first visual geometry and that mesh's scale; a mesh file is read in metres.
+mesh of its first visual geometry and that mesh's scale (the true surface), and, when its
+collision mesh is made of convex bodies (the procedural objects' blobs, the duck's V-HACD hulls),
+those as the convex pieces MuJoCo collides with (:attr:`MeshSolid.pieces`: no coacd run, which
+takes over a minute on the duck); a mesh file is read in metres.
 
 The models are not all clean closed surfaces: each is repaired as it is read (vertices merged
 across texture seams, zero-area faces dropped, its closed bodies fused by manifold3d's boolean
@@ -91,19 +94,42 @@ def library_file(name: str) -> Path:
     return path
 
 
-def _urdf_mesh(path: Path) -> tuple[Path, np.ndarray]:
-    """The mesh file and scale (3,) of a URDF's first visual geometry."""
+def _urdf_mesh(path: Path, element: str) -> tuple[Path, np.ndarray] | None:
+    """The mesh file and scale (3,) of a URDF's first `element` (visual, collision) geometry,
+    or None when it has none."""
     try:
         root = ElementTree.parse(path).getroot()
     except ElementTree.ParseError as exc:
         raise InvalidInputError(f"cannot read {path}: {exc}") from exc
-    mesh = root.find(".//visual/geometry/mesh")
+    mesh = root.find(f".//{element}/geometry/mesh")
     if mesh is None or not mesh.get("filename"):
-        raise InvalidInputError(f"{path} has no visual mesh")
+        return None
     scale = np.array([float(v) for v in mesh.get("scale", "1 1 1").split()])
     if scale.shape != (3,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0):
         raise InvalidInputError(f"{path}: its mesh scale must be three numbers > 0")
     return path.parent / mesh.get("filename", ""), scale
+
+
+def _load(path: Path) -> object:
+    """A mesh file through trimesh, its vertices merged across texture seams."""
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=False)
+    except Exception as exc:  # noqa: BLE001 - trimesh raises many kinds on bad files
+        raise InvalidInputError(f"cannot read the mesh {path}: {exc}") from exc
+    mesh.merge_vertices(merge_tex=True, merge_norm=True)
+    return mesh
+
+
+@lru_cache(maxsize=32)
+def _hulls(path: Path, scale: tuple[float, float, float]) -> tuple[np.ndarray, ...] | None:
+    """The convex bodies of a collision mesh (vertex arrays in metres), or None when one of them
+    is not convex (coacd then decomposes the object instead)."""
+    bodies = _load(path).split(only_watertight=False)  # type: ignore[attr-defined]
+    if not bodies or not all(b.is_convex for b in bodies):
+        return None
+    return tuple(np.asarray(b.vertices, np.float64) * np.asarray(scale) for b in bodies)
 
 
 @lru_cache(maxsize=32)
@@ -112,11 +138,7 @@ def _repaired(path: Path, scale: tuple[float, float, float]) -> MeshSolid:
     import manifold3d
     import trimesh
 
-    try:
-        mesh = trimesh.load(str(path), force="mesh", process=False)
-    except Exception as exc:  # noqa: BLE001 - trimesh raises many kinds on bad files
-        raise InvalidInputError(f"cannot read the mesh {path}: {exc}") from exc
-    mesh.merge_vertices(merge_tex=True, merge_norm=True)
+    mesh = _load(path)
     mesh.update_faces(mesh.nondegenerate_faces())
     mesh.remove_unreferenced_vertices()
     bodies = mesh.split(only_watertight=False)
@@ -180,12 +202,20 @@ def load_library_object(name: str, scale: float = 1.0) -> MeshSolid:
             body after repair.
     """
     path = library_file(name)
-    mesh_scale = np.ones(3)
+    mesh_scale, hulls = np.ones(3), None
     if path.suffix.lower() == ".urdf":
-        path, mesh_scale = _urdf_mesh(path)
+        visual = _urdf_mesh(path, "visual")
+        if visual is None:
+            raise InvalidInputError(f"{path} has no visual mesh")
+        collision = _urdf_mesh(path, "collision")
+        if collision is not None and collision[0].is_file():
+            hulls = _hulls(collision[0], tuple(float(v) for v in collision[1] * scale))
+        path, mesh_scale = visual
         if not path.is_file():
             raise InvalidInputError(f"the mesh {path} of pybullet object {name!r} is missing")
     solid = _repaired(path, tuple(float(v) for v in mesh_scale * scale))
+    if hulls is not None:  # the model's own convex collision hulls: no decomposition needed
+        solid = MeshSolid(solid.vertices, solid.faces, hulls)
     return solid.transformed(np.eye(3), -solid.centroid)
 
 

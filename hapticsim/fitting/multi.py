@@ -23,7 +23,10 @@ the others' (a contact lies on the union's surface: outside every other part).
      it must not swallow: this is the joint refinement of the union (each contact on the union's
      surface is outside every part but its own), done part by part because, with the
      assignment fixed, the union's residuals split that way. A part left with fewer than
-     :data:`MIN_PART_CONTACTS` contacts ends the start.
+     :data:`MIN_PART_CONTACTS` contacts ends the start, and so does one that reaches farther
+     than :data:`REACH` data sizes beyond the box of the contacts and of the one-part fit:
+     nothing measured says a part is there (one-sided contacts leave a part's far side free,
+     and a part has the freedom to fill it; the one-part fit has less).
 3. **The criterion** (a robust BIC): for a union U of K parts,
    ``cost(U) = sum_i min(z_i^2, CAP^2) + K P ln n``, ``P = 13`` parameters a part, with
    ``z_i^2 = (d_i / sigma_d)^2 + (|e_i| / sigma_n)^2``, ``d_i`` the contact's first-order signed
@@ -80,6 +83,9 @@ NORMAL_FLOOR: float = 0.05
 #: How far the other parts' contacts are moved out along their normals, in distance noise
 #: levels, before they become a part's free-space points.
 FREE_OFFSET: float = 2.0
+#: How far a part may reach beyond the box of the contacts and of the one-part fit, as a share
+#: of the data size: farther, and nothing measured says it is there (a union is refused).
+REACH: float = 0.15
 
 
 @dataclass
@@ -119,6 +125,7 @@ class _Data:
         self.given = noise
         self.size_hint = size_hint
         self.evaluations = 0
+        self.allowed: Array | None = None  # (2, 3): the box no part may leave
         self.sigma_d = self.sigma_n = 0.0
         if noise is not None:
             self.sigma_d = max(noise * size_hint, DISTANCE_FLOOR * self.size)
@@ -184,6 +191,19 @@ def _part_fit(
     return result.superquadric.to_vector()  # type: ignore[attr-defined]
 
 
+def _inside_allowed(data: _Data, vectors: Array) -> bool:
+    """True when every part's surface (a coarse mesh's vertices) lies in the allowed box
+    (:data:`REACH`)."""
+    if data.allowed is None:
+        return True
+    lo, hi = data.allowed
+    for v in vectors:
+        vertices, _ = Superquadric.from_vector(v).surface_mesh(16)
+        if np.any(vertices < lo) or np.any(vertices > hi):
+            return False
+    return True
+
+
 def _alternate(data: _Data, vectors: Array, how: str) -> Candidate | None:
     """Rounds of reassignment and per-part refinement from the parts `vectors` (module
     docstring); None when a part runs out of contacts."""
@@ -210,6 +230,8 @@ def _alternate(data: _Data, vectors: Array, how: str) -> Candidate | None:
             least_squares_run(objective, vectors[j])
             vectors[j] = objective.best_vector
             data.evaluations += objective.evaluations
+    if not _inside_allowed(data, vectors):
+        return None
     return data.candidate(vectors, owner, how)
 
 
@@ -265,11 +287,17 @@ def multi_search(
     """
     data = _Data(points, normals, free, noise, float(np.mean(single.a)))
     one = data.candidate(single.to_vector()[None, :], np.zeros(data.n, np.int64), "nH")
+    outline = single.surface_mesh(16)[0]
+    box = np.stack([np.minimum(points.min(axis=0), outline.min(axis=0)),
+                    np.maximum(points.max(axis=0), outline.max(axis=0))])  # fmt: skip
+    data.allowed = box + np.array([[-1.0], [1.0]]) * REACH * data.size
     if data.given is None:
         data.set_scales(one)
     # the criterion compares every part count at the same refinement: nH's part refined as the
     # parts of the unions are (the result of one part stays nH's own)
+    allowed, data.allowed = data.allowed, None
     refined = _alternate(data, single.to_vector()[None, :], "nH, refined for the criterion")
+    data.allowed = allowed
     top = MAX_PARTS if parts is None else parts
     top = min(top, data.n // MIN_PART_CONTACTS)
     chosen = [refined if refined is not None else one]  # the best of each part count, in order

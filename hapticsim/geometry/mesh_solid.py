@@ -63,6 +63,9 @@ class MeshSolid(Solid):
     Attributes:
         vertices: (n, 3) float, vertex positions [m, world].
         faces: (m, 3) int, vertex indices of each triangle, counter-clockwise seen from outside.
+        pieces: the convex pieces it collides as, when its source gives them (a URDF's collision
+            hulls: :mod:`hapticsim.data.library`): vertex arrays (k, 3) [m, world], each the
+            vertices of one convex hull; None (default): itself when convex, else coacd's.
 
     Instances are immutable and validated on construction (finite vertices, indices in range,
     at least 4 faces, no zero-area face, closed and consistently oriented, positive volume);
@@ -74,6 +77,7 @@ class MeshSolid(Solid):
 
     vertices: Array
     faces: NDArray[np.int64]
+    pieces: tuple[Array, ...] | None = None
 
     kind = "mesh"
 
@@ -105,6 +109,11 @@ class MeshSolid(Solid):
         _check_closed(f, len(v))
         object.__setattr__(self, "vertices", _frozen(v))
         object.__setattr__(self, "faces", _frozen(f))
+        if self.pieces is not None:
+            pieces = tuple(finite_array(p, "pieces", (None, 3)) for p in self.pieces)
+            if not pieces or any(len(p) < 4 for p in pieces):
+                raise InvalidInputError("`pieces` must be convex hulls of at least 4 vertices each")
+            object.__setattr__(self, "pieces", tuple(_frozen(p) for p in pieces))
         if self.volume <= 0:
             raise InvalidInputError(
                 f"the faces point inward (volume {self.volume:.3e} m^3 < 0): invert them"
@@ -367,6 +376,9 @@ class MeshSolid(Solid):
                 decomposition.
         """
         center = self.centroid
+        if self.pieces is not None:
+            return (tuple(np.asarray(p) - center for p in self.pieces), center, np.eye(3),
+                    f"the {len(self.pieces)} convex pieces given with the mesh")  # fmt: skip
         if self.is_convex:
             return ((np.asarray(self.vertices) - center,), center, np.eye(3),
                     "convex mesh, as it is")  # fmt: skip
@@ -411,6 +423,8 @@ class MeshSolid(Solid):
 
         digest = hashlib.sha1(np.ascontiguousarray(self.vertices).tobytes())
         digest.update(np.ascontiguousarray(self.faces).tobytes())
+        for piece in self.pieces or ():
+            digest.update(np.ascontiguousarray(piece).tobytes())
         return b"mesh:" + digest.digest()
 
     def support_points(self) -> Array:
@@ -452,14 +466,16 @@ class MeshSolid(Solid):
         t = finite_array(translation, "translation", (3,))
         if not is_rotation(r, tol=1e-6):
             raise InvalidInputError("`rotation` must be a proper rotation matrix")
-        return MeshSolid(self.vertices @ r.T + t, self.faces)
+        pieces = None if self.pieces is None else tuple(p @ r.T + t for p in self.pieces)
+        return MeshSolid(self.vertices @ r.T + t, self.faces, pieces)
 
     def scaled(self, factor: float) -> MeshSolid:
         """The solid scaled about the world origin by `factor` (> 0)."""
         f = float(factor)
         if not np.isfinite(f) or f <= 0:
             raise InvalidInputError(f"`factor` must be a finite number > 0, got {factor!r}")
-        return MeshSolid(self.vertices * f, self.faces)
+        pieces = None if self.pieces is None else tuple(p * f for p in self.pieces)
+        return MeshSolid(self.vertices * f, self.faces, pieces)
 
     def to_trimesh(self) -> Any:
         """A ``trimesh.Trimesh`` of the surface (same vertices and faces, not processed)."""

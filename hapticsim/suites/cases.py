@@ -115,12 +115,12 @@ def _fit(
         evaluations = DEFAULT_BUDGET if budget == "default" else budget
         result = fit(points, normals, method=method, budget=evaluations, rng=rng)
         timing["fit"] = time.perf_counter() - start
-        return result.superquadric, {
+        return result.solid, {
             "fitter": method, "budget": int(evaluations), "evaluations": result.evaluations,
             "fit_status": result.status,
         }  # fmt: skip
     from hapticsim.errors import InvalidInputError
-    from hapticsim.suites.plugins import as_superquadric, load_fitter
+    from hapticsim.suites.plugins import as_solid, load_fitter
 
     func = load_fitter(fitter)
     try:
@@ -130,7 +130,7 @@ def _fit(
         raise _PluginError(f"the fitter {fitter} raised {type(exc).__name__}: {detail}") from None
     timing["fit"] = time.perf_counter() - start
     try:
-        estimate = as_superquadric(value)
+        estimate = as_solid(value)
     except InvalidInputError as exc:
         raise _PluginError(str(exc)) from None
     return estimate, {"fitter": fitter, "budget": None, "evaluations": None, "fit_status": None}
@@ -139,20 +139,31 @@ def _fit(
 def _quality(
     estimate: Any, truth: Any, points: Any, normals: Any | None, rng: np.random.Generator
 ) -> dict[str, Any]:
-    """epsilon, alpha, beta, IoU, Chamfer, theta and the EOF of `estimate` (SPEC §2, §4)."""
+    """epsilon, alpha, beta, IoU, Chamfer, and for superquadrics theta and the EOF of `estimate`
+    (SPEC §2, §4; None where a solid has no EOF: a union, a mesh truth's theta); ``parts``."""
     from hapticsim.constants import DEFAULT_LAMBDA
+    from hapticsim.geometry import Superquadric
     from hapticsim.geometry.eof import error_of_fit
     from hapticsim.metrics import score, theta
 
     quality = score(estimate, truth, rng=rng)
     e = estimate
-    eof = error_of_fit(points, normals, e.a, e.eps, e.taper, e.rotation, e.center, DEFAULT_LAMBDA)
-    return {
+    single = isinstance(e, Superquadric)
+    eof = (
+        float(error_of_fit(points, normals, e.a, e.eps, e.taper, e.rotation, e.center,
+                           DEFAULT_LAMBDA)) if single else None
+    )  # fmt: skip
+    th = (
+        float(theta(estimate, truth, points, normals, lam=DEFAULT_LAMBDA))
+        if single and isinstance(truth, Superquadric) else None
+    )  # fmt: skip
+    out = {
         "epsilon": quality.epsilon, "alpha": quality.alpha, "beta": quality.beta,
-        "iou": quality.iou, "chamfer": quality.chamfer,
-        "theta": float(theta(estimate, truth, points, normals, lam=DEFAULT_LAMBDA)),
-        "eof": float(eof),
+        "iou": quality.iou, "chamfer": quality.chamfer, "theta": th, "eof": eof,
     }  # fmt: skip
+    if not single:
+        out["parts"] = len(e.components)
+    return out
 
 
 def _truth(body: str, rng: np.random.Generator) -> Any:
@@ -278,7 +289,48 @@ def _plugin_policy(spec: str, env: Any, seed: int) -> Any:
     return policy
 
 
-_RUNNERS = {"fit": _run_fit, "explore": _run_explore, "policy": _run_policy}
+def _object_truth(name: str, rng: np.random.Generator) -> Any:
+    """An ``objects`` case's truth: an example mesh, or what an object spec resolves to (a
+    random kind drawn from `rng`)."""
+    from hapticsim.data.example_meshes import EXAMPLE_MESHES
+    from hapticsim.data.objects import ObjectSpec
+
+    if name in EXAMPLE_MESHES:
+        return EXAMPLE_MESHES[name]()
+    return ObjectSpec(name).resolve(rng)
+
+
+def _run_objects(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
+    from hapticsim.data.noise import add_noise
+    from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
+    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.sim.session import run_exploration
+
+    p = case.params
+    data_ss, case_ss = _seeds(case)
+    shape_rng, sim_rng, noise_rng = (np.random.default_rng(s) for s in data_ss.spawn(3))
+    fit_rng, score_rng = (np.random.default_rng(s) for s in case_ss.spawn(2))
+    truth = _object_truth(p["object"], shape_rng)
+    if is_policy_strategy(p["strategy"]):
+        run = run_policy_exploration(truth, p["strategy"], p["count"], sim_rng)
+    else:
+        run = run_exploration(truth, p["strategy"], p["count"], rng=sim_rng)
+    a = run.arrays
+    points, normals = add_noise(a["points_clean"], a["normals_clean"], p["noise"], truth.size,
+                                noise_rng)  # fmt: skip
+    estimate, info = _fit(points, normals, p["method"], "default", fit_rng, task.fitter, timing)
+    metrics = _quality(estimate, truth, points, normals, score_rng)
+    accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
+    truth_dict = truth.to_dict() if truth.kind != "mesh" else {"mesh": p["object"]}
+    return {
+        **metrics, **info, "contacts": run.count, "complete": run.count >= p["count"],
+        "distance_median": accuracy["distance_median"],
+        "angle_median_deg": accuracy["angle_median_deg"], "truth": truth_dict,
+    }, estimate  # fmt: skip
+
+
+_RUNNERS = {"fit": _run_fit, "explore": _run_explore, "policy": _run_policy,
+            "objects": _run_objects}  # fmt: skip
 
 
 def case_cost(task: CaseTask) -> float:
@@ -286,6 +338,6 @@ def case_cost(task: CaseTask) -> float:
     p = task.case.params
     if task.case.kind == "policy":
         return (3.0 if p["backend"] == "mujoco" else 1.0) * p["touches"]
-    if task.case.kind == "explore":
+    if task.case.kind in ("explore", "objects"):
         return 10.0
     return 2.0 if p["method"] in ("H", "nH") else 1.0

@@ -90,6 +90,36 @@ def _strategies() -> tuple[str, ...]:
     return strategy_names()
 
 
+def _explorations() -> tuple[str, ...]:
+    from hapticsim.envs.exploration import POLICY_STRATEGIES
+    from hapticsim.sim.strategies import strategy_names
+
+    return (*strategy_names(), *POLICY_STRATEGIES)
+
+
+def _object(value: Any, name: str) -> str:
+    """An object of ``objects`` cases: a paper body, a random kind (drawn from the data seed),
+    an example mesh (:data:`hapticsim.data.example_meshes.EXAMPLE_MESHES`) or ``pybullet:NAME``
+    (checked when a case runs: the extra may be missing where the suite is only listed)."""
+    from hapticsim.data.example_meshes import EXAMPLE_MESHES
+    from hapticsim.data.objects import ObjectSpec
+
+    if isinstance(value, str) and (value in EXAMPLE_MESHES or value.startswith("pybullet:")):
+        return value
+    if isinstance(value, str):
+        try:
+            spec = ObjectSpec(value)
+        except InvalidInputError:
+            spec = None
+        if spec is not None and spec.kind in ("body", "random", "random_tapered",
+                                              "random_composite"):  # fmt: skip
+            return value
+    raise InvalidInputError(
+        f"`{name}` must be a paper body, random, random_tapered, random_composite, an example "
+        f"mesh ({', '.join(EXAMPLE_MESHES)}) or pybullet:NAME, got {value!r}"
+    )
+
+
 def _policies() -> tuple[str, ...]:
     from hapticsim.envs.policies import POLICY_NAMES
 
@@ -198,6 +228,20 @@ KINDS = MappingProxyType(
             plugin="fitter",
             replaces="method",
             description="simulated hand explorations (MuJoCo), fitted and scored",
+        ),
+        "objects": Kind(
+            "objects",
+            (
+                Param("object", _object, doc="a body, random kind, example mesh or pybullet:NAME"),
+                Param("strategy", _choice(_explorations), doc="a strategy or environment policy"),
+                Param("noise", _fraction, 0.0, doc="sensor noise sigma_N (SPEC §5)"),
+                Param("method", _choice(_methods), "nH", data=False, doc="fitting method"),
+                Param("count", _integer(20), 150, doc="contacts to gather"),
+                _RUN,
+            ),
+            plugin="fitter",
+            replaces="method",
+            description="hand explorations of any object (composites, meshes), fitted and scored",
         ),
         "policy": Kind(
             "policy",

@@ -129,34 +129,36 @@ def describe(spec: str | None, option: str) -> dict[str, Any] | None:
     return {"option": option, "spec": spec, "file": path, "sha256": digest}
 
 
-def as_superquadric(value: Any) -> Any:
-    """A fitter's return value as a :class:`~hapticsim.geometry.Superquadric`.
+def as_solid(value: Any) -> Any:
+    """A fitter's return value as a solid (:class:`~hapticsim.geometry.solid.Solid`).
 
-    Accepts a Superquadric, anything with a ``superquadric`` attribute holding one (a
-    ``FitResult``), or a SPEC §6 dict (bare, or a fit result with a ``superquadric`` key).
+    Accepts a solid (a Superquadric, a SuperquadricUnion, ...), anything with a ``solid`` or a
+    ``superquadric`` attribute holding one (a ``FitResult``), or a SPEC §6 or §10 dict (bare,
+    or a fit result with a ``solid`` or ``superquadric`` key).
 
     Raises:
-        InvalidInputError: anything else, or a dict that is not a valid superquadric.
+        InvalidInputError: anything else, or a dict that is not a valid superquadric or union.
     """
-    from hapticsim.geometry import Superquadric
+    from hapticsim.geometry import Solid, solid_from_dict
 
-    if isinstance(value, Superquadric):
+    if isinstance(value, Solid):
         return value
-    inner = getattr(value, "superquadric", None)
-    if isinstance(inner, Superquadric):
-        return inner
+    for attribute in ("solid", "superquadric"):
+        inner = getattr(value, attribute, None)
+        if isinstance(inner, Solid):
+            return inner
     if isinstance(value, dict):
         try:
-            return Superquadric.from_dict(value)
+            return solid_from_dict(value)
         except InvalidInputError as exc:
-            raise InvalidInputError(f"the fitter returned an invalid superquadric: {exc}") from None
+            raise InvalidInputError(f"the fitter returned an invalid solid: {exc}") from None
         except (TypeError, ValueError) as exc:
             raise InvalidInputError(
-                f"the fitter returned an invalid superquadric: {type(exc).__name__}: {exc}"
+                f"the fitter returned an invalid solid: {type(exc).__name__}: {exc}"
             ) from None
     shown = repr(value)
     shown = shown if len(shown) <= 60 else shown[:57] + "..."
     raise InvalidInputError(
         f"the fitter returned {type(value).__name__} {shown}: expected a Superquadric, a "
-        "FitResult or a SPEC §6 dict"
+        "SuperquadricUnion, a FitResult or a SPEC §6/§10 dict"
     )

@@ -43,7 +43,7 @@ def test_synthetic_contacts_of_a_union_lie_on_its_surface() -> None:
     assert len(c) == 300
     assert np.max(union.surface_distance(c.points)) < 5e-4  # the parts' meshes' chords
     hidden = np.zeros(300, dtype=bool)
-    for k, part in enumerate(union.parts):
+    for k in range(len(union.parts)):
         others = [p for j, p in enumerate(union.parts) if j != k]
         mine = c.extra["part"] == k
         for o in others:
@@ -88,3 +88,19 @@ def test_library_objects_are_read_from_pybullet_data() -> None:
     ]:
         with pytest.raises(InvalidInputError, match=words):
             load_library_object(name)
+
+
+def test_library_objects_collide_as_their_own_convex_hulls() -> None:
+    pytest.importorskip("pybullet_data")
+    duck = ObjectSpec("pybullet:duck").resolve()
+    assert duck.pieces is not None and len(duck.pieces) == 5  # its URDF's V-HACD hulls
+    pieces, position, _, method = duck.convex_pieces(32)
+    assert "5 convex pieces given" in method and np.allclose(position, duck.centroid)
+    moved = duck.transformed(np.eye(3), np.array([0.01, 0.0, 0.0])).scaled(2.0)
+    assert np.allclose(moved.pieces[0], (duck.pieces[0] + [0.01, 0.0, 0.0]) * 2.0)
+    assert moved.shape_key() != duck.shape_key()
+    # the hulls stand where the surface is: most of their vertices within 3 mm of it
+    hull_vertices = np.concatenate(duck.pieces)
+    assert np.median(duck.surface_distance(hull_vertices)) < 3e-3
+    with pytest.raises(InvalidInputError, match="`pieces`"):
+        MeshSolid(duck.vertices, duck.faces, (np.zeros((2, 3)),))

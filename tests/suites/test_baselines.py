@@ -19,6 +19,7 @@ SAMPLES = {
     "explore-v1": "cube/*/noise=0.05/run=0",
     "fit-v1": "*/noise=0.05/run=0",
     "fit-v2": "*/nML/noise=0.05/run=0",
+    "objects-v1": "*/multi/run=0",
     "policy-v1": "*/paper/analytic/run=0",
 }
 

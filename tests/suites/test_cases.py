@@ -8,10 +8,10 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting import DEFAULT_BUDGET
-from hapticsim.geometry import Superquadric
+from hapticsim.geometry import Superquadric, SuperquadricUnion
 from hapticsim.suites import load_suite
 from hapticsim.suites.cases import TIMING_KEYS, CaseTask, run_case
-from hapticsim.suites.plugins import as_superquadric, load_fitter, load_policy
+from hapticsim.suites.plugins import as_solid, load_fitter, load_policy
 
 LAB = "tests.suites.lab_plugins"
 
@@ -54,9 +54,9 @@ def test_methods_of_one_run_see_the_same_random_body() -> None:
 @pytest.mark.parametrize(
     ("fitter", "error"),
     [
-        ("garbage_fit", "the fitter returned an invalid superquadric: superquadric is missing"),
+        ("garbage_fit", "the fitter returned an invalid solid: superquadric is missing"),
         ("raising_fit", "the fitter tests.suites.lab_plugins:raising_fit raised RuntimeError"),
-        ("nan_fit", "the fitter returned an invalid superquadric"),
+        ("nan_fit", "the fitter returned an invalid solid"),
     ],
 )
 def test_a_failing_plug_in_fails_its_case(fitter: str, error: str) -> None:
@@ -79,15 +79,17 @@ def test_plug_in_return_forms() -> None:
     assert as_dict["metrics"]["evaluations"] is None
 
 
-def test_as_superquadric_refuses_what_is_not_one() -> None:
+def test_as_solid_refuses_what_is_not_one() -> None:
     sq = Superquadric(a=(0.02, 0.03, 0.04), eps=(1.0, 1.0))
-    assert as_superquadric(sq) is sq
-    assert as_superquadric(sq.to_dict()) == sq
-    assert as_superquadric({"superquadric": sq.to_dict()}) == sq
+    assert as_solid(sq) is sq
+    union = SuperquadricUnion((sq, sq.replace(center=(0.03, 0.0, 0.0))))
+    assert as_solid({"parts": [p.to_dict() for p in union.parts]}) == union
+    assert as_solid(sq.to_dict()) == sq
+    assert as_solid({"superquadric": sq.to_dict()}) == sq
     with pytest.raises(InvalidInputError, match="returned NoneType None"):
-        as_superquadric(None)
-    with pytest.raises(InvalidInputError, match="invalid superquadric"):
-        as_superquadric({**sq.to_dict(), "a": [-1, 1, 1]})
+        as_solid(None)
+    with pytest.raises(InvalidInputError, match="invalid solid"):
+        as_solid({**sq.to_dict(), "a": [-1, 1, 1]})
 
 
 @pytest.mark.parametrize(

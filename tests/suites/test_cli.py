@@ -70,7 +70,8 @@ def test_suite_list(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = _run(capsys, "suite", "list")
     assert code == 0
     listed = {s["id"]: s["cases"] for s in json.loads(out)}
-    assert listed == {"explore-v1": 144, "fit-v1": 640, "fit-v2": 800, "policy-v1": 120}
+    assert listed == {"explore-v1": 144, "fit-v1": 640, "fit-v2": 800, "objects-v1": 70,
+                      "policy-v1": 120}
 
 
 def test_results_file_layout_and_provenance(tiny: tuple[Path, Path]) -> None:

@@ -34,16 +34,18 @@ def _write(tmp_path: Path, text: str, name: str = "tiny-v2.toml") -> Path:
 
 
 def test_the_shipped_suites() -> None:
-    assert suite_names() == ("explore-v1", "fit-v1", "fit-v2", "policy-v1")
+    assert suite_names() == ("explore-v1", "fit-v1", "fit-v2", "objects-v1", "policy-v1")
     suites = {s.id: s for s in list_suites()}
     # fit-v1: 5 bodies x 4 methods x 4 noise levels x 8 runs (fit-v2: 5 methods, nML added);
     # explore-v1: 4 x 4 strategies x 3 noise levels x 3 runs; policy-v1: 3 policies x 2 object
-    # sets x 2 backends x 10 runs.
+    # sets x 2 backends x 10 runs; objects-v1: (3 objects x 2 strategies + random composites x 1)
+    # x 2 methods x 5 runs.
     assert {k: len(s.cases) for k, s in suites.items()} == {
-        "fit-v1": 640, "fit-v2": 800, "explore-v1": 144, "policy-v1": 120,
+        "fit-v1": 640, "fit-v2": 800, "explore-v1": 144, "objects-v1": 70, "policy-v1": 120,
     }  # fmt: skip
     assert {k: s.kind for k, s in suites.items()} == {
-        "fit-v1": "fit", "fit-v2": "fit", "explore-v1": "explore", "policy-v1": "policy",
+        "fit-v1": "fit", "fit-v2": "fit", "explore-v1": "explore", "objects-v1": "objects",
+        "policy-v1": "policy",
     }  # fmt: skip
     for suite in suites.values():
         ids = [c.id for c in suite.cases]
@@ -92,7 +94,7 @@ def test_a_suite_file_by_path_and_case_selection(tmp_path: Path) -> None:
 
 
 def test_unknown_suite_lists_the_suites() -> None:
-    shipped = "explore-v1, fit-v1, fit-v2, policy-v1"
+    shipped = "explore-v1, fit-v1, fit-v2, objects-v1, policy-v1"
     with pytest.raises(InvalidInputError, match=f"the suites are {shipped}"):
         load_suite("fit-v9")
 
@@ -101,7 +103,8 @@ def test_unknown_suite_lists_the_suites() -> None:
     ("change", "message"),
     [
         (("seed = 5", "seed = 5\ncolour = 1"), r"unknown key\(s\) \['colour'\]"),
-        (('kind = "fit"', 'kind = "fitting"'), "`kind` must be one of fit, explore, policy"),
+        (('kind = "fit"', 'kind = "fitting"'),
+         "`kind` must be one of fit, explore, objects, policy"),  # fmt: skip
         (('method = ["LS", "nH"]', 'method = ["LS", "XX"]'), "grid 1: `method` must be one of LS"),
         (('method = ["LS", "nH"]', 'method = ["LS", "LS"]'), "lists a value twice"),
         (('method = ["LS", "nH"]', "method = []"), "`method` is an empty list"),
