@@ -74,7 +74,9 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
     sections = []
-    for path in sorted(args.out.glob("*.json")):
+    for path in sorted(args.out / f"{name}.json" for name in suite_names()):
+        if not path.is_file():  # other JSON there (benchmarks) is not a baseline
+            continue
         results = json.loads(path.read_text())
         command = " ".join(results["provenance"]["command"] or [])
         sections.append(results_markdown(results, command))
