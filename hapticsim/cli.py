@@ -72,9 +72,9 @@ def _explore_epilog() -> str:
         if not k and not v:
             lines.append("strategies (--strategy):")
             continue
-        wrapped = textwrap.wrap(v, 60) or [""]
-        lines.append(f"  {k:<16}{wrapped[0]}")
-        lines += [" " * 18 + w for w in wrapped[1:]]
+        wrapped = textwrap.wrap(v, 58) or [""]
+        lines.append(f"  {k:<18}{wrapped[0]}")
+        lines += [" " * 20 + w for w in wrapped[1:]]
     return "\n".join(lines)
 
 

@@ -19,6 +19,9 @@ listing it in ``SECTIONS``):
   process in the same run.
 - ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
   exploration per body (:func:`hapticsim.sim.benchmark.benchmark_sim`).
+- ``multi``: the median wall and CPU seconds of a ``method="multi"`` fit of 300 contacts against
+  nH's on the same contacts: area samples of the L-block and of 10 random composites (seeds
+  200-209), and the paper's patterns on the four bodies (one part), with the parts it chose.
 - ``tactile``: exact against tactile sensing in the same run: the environment's steps per
   second with random touches per backend (ideal skin), and ``explore``'s whole work (simulation,
   fit, score, files, report picture) on the paper's four bodies, the two alternating.
@@ -264,8 +267,42 @@ def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def section_multi(args: argparse.Namespace) -> dict[str, Any]:
+    from hapticsim.data import get_body, paper_dataset
+    from hapticsim.data.example_meshes import l_block
+    from hapticsim.data.objects import random_composite
+    from hapticsim.fitting import fit
+
+    sets: dict[str, list[tuple[Any, Any]]] = {"l_block": [], "composites": [], "bodies": []}
+    for seed in range(3):
+        sets["l_block"].append(l_block().sample_surface(300, rng=seed))
+    for seed in range(200, 210):
+        sets["composites"].append(random_composite(seed).sample_surface(300, rng=seed))
+    for k, body in enumerate(("tapered_box", "cube", "cylinder", "ellipsoid")):
+        c = paper_dataset(get_body(body), noise=0.0, rng=k, count=300)
+        sets["bodies"].append((c.points, c.normals))
+    fit(*sets["bodies"][0], method="multi", rng=0)  # warm up (compiled kernels)
+    out: dict[str, Any] = {"load_start": _load()}
+    for name, data in sets.items():
+        row: dict[str, Any] = {}
+        for method in ("nH", "multi"):
+            wall, cpu, parts = [], [], []
+            for k, (points, normals) in enumerate(data):
+                t0, c0 = time.perf_counter(), time.process_time()
+                result = fit(points, normals, method=method, rng=k)
+                wall.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+                parts.append(len(result.solid.components))
+            row[method] = {"wall_median": float(np.median(wall)), "wall_max": float(np.max(wall)),
+                           "cpu_median": float(np.median(cpu)), "parts": parts}  # fmt: skip
+        out[name] = row
+    out["load_end"] = _load()
+    return out
+
+
 SECTIONS: dict[str, Callable[[argparse.Namespace], dict[str, Any]]] = {
     "fit": section_fit,
+    "multi": section_multi,
     "startup": section_startup,
     "score": section_score,
     "env": section_env,

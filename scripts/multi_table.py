@@ -100,7 +100,21 @@ def _fits(points: np.ndarray, normals: np.ndarray, truth: Any, seed: int) -> dic
 
 
 def _task(task: tuple) -> list[dict[str, Any]]:
-    """One exploration (or contact set) and its fits: one row per contact count."""
+    """One exploration (or contact set) and its fits: one row per contact count; a failed
+    exploration is a row with its error."""
+    from hapticsim.errors import HapticsimError
+
+    try:
+        return _run(task)
+    except HapticsimError as exc:
+        family, name, strategy, count, seed, pose, noise = task
+        print(f"{family:10s} {name:22s} {strategy:11s} {count}: FAILED {exc}", file=sys.stderr,
+              flush=True)  # fmt: skip
+        return [{"family": family, "object": name, "strategy": strategy, "count": count,
+                 "seed": seed, "pose": pose, "noise": noise, "error": str(exc)}]  # fmt: skip
+
+
+def _run(task: tuple) -> list[dict[str, Any]]:
     family, name, strategy, count, seed, pose, noise = task
     from hapticsim.data.noise import add_noise
     from hapticsim.data.synthetic import synthetic_dataset
@@ -169,9 +183,13 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     keys = sorted({(r["family"], r["strategy"], r["count"]) for r in rows})
     for family, strategy, count in keys:
-        sel = [r for r in rows if (r["family"], r["strategy"], r["count"]) == (family, strategy,
-                                                                              count)]  # fmt: skip
-        entry: dict[str, Any] = {"runs": len(sel)}
+        every = [r for r in rows if (r["family"], r["strategy"], r["count"]) == (family, strategy,
+                                                                                count)]  # fmt: skip
+        sel = [r for r in every if "error" not in r]
+        entry: dict[str, Any] = {"runs": len(sel), "failed": len(every) - len(sel)}
+        if not sel:
+            out[f"{family}/{strategy}/{count}"] = entry
+            continue
         for m in ("nH", "multi"):
             entry[m] = {
                 "iou_mean": float(np.mean([r[m]["iou"] for r in sel])),
@@ -190,14 +208,17 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
 def _markdown(summary: dict[str, Any]) -> str:
     lines = [
-        "| family / exploration / contacts | runs | IoU nH | IoU multi | epsilon nH | epsilon "
-        "multi | Chamfer nH [mm] | Chamfer multi [mm] | parts | multi fit [s] |",
+        "| family / exploration / contacts | runs (failed) | IoU nH | IoU multi | epsilon nH | "
+        "epsilon multi | Chamfer nH [mm] | Chamfer multi [mm] | parts | multi fit [s] |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for key, e in summary.items():
+        if not e["runs"]:
+            lines.append(f"| {key} | 0 ({e['failed']}) | | | | | | | | |")
+            continue
         n, m = e["nH"], e["multi"]
         lines.append(
-            f"| {key} | {e['runs']} | {n['iou_mean']:.3f} | {m['iou_mean']:.3f} | "
+            f"| {key} | {e['runs']} ({e['failed']}) | {n['iou_mean']:.3f} | {m['iou_mean']:.3f} | "
             f"{n['epsilon_mean']:.3f} | {m['epsilon_mean']:.3f} | {n['chamfer_mean_mm']:.2f} | "
             f"{m['chamfer_mean_mm']:.2f} | {m['parts_mean']:.2f} | {m['seconds_median']:.2f} |"
         )
@@ -229,13 +250,16 @@ def main(argv: list[str] | None = None) -> int:
         "rows": rows,
     }
     text = json.dumps(result, indent=2) + "\n"
-    if args.out is not None:
-        from hapticsim._files import write_text_atomic
-
-        write_text_atomic(args.out, text)
+    sys.stdout.write(text)
     if args.markdown:
         print(_markdown(summary), file=sys.stderr)
-    sys.stdout.write(text)
+    if args.out is not None:
+        from pathlib import Path
+
+        from hapticsim._files import write_text_atomic
+
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        write_text_atomic(args.out, text)
     return 0
 
 

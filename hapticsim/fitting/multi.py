@@ -23,10 +23,16 @@ the others' (a contact lies on the union's surface: outside every other part).
      it must not swallow: this is the joint refinement of the union (each contact on the union's
      surface is outside every part but its own), done part by part because, with the
      assignment fixed, the union's residuals split that way. A part left with fewer than
-     :data:`MIN_PART_CONTACTS` contacts ends the start, and so does one that reaches farther
-     than :data:`REACH` data sizes beyond the box of the contacts and of the one-part fit:
-     nothing measured says a part is there (one-sided contacts leave a part's far side free,
-     and a part has the freedom to fill it; the one-part fit has less).
+     :data:`MIN_PART_CONTACTS` contacts ends the start. No part may reach farther than
+     :data:`REACH` data sizes beyond the box of the contacts and of the one-part fit: nothing
+     measured says a part is there (one-sided contacts leave a part's far side free, and a
+     part has the freedom to fill it; the one-part fit has less). Points on that box's faces
+     are free space in the refinements, and a union with a part that still has more than
+     :data:`OUTSIDE_SHARE` of its volume outside it is refused. Nor may a part be left
+     unsupported: touched from both sides along each of its axes (a contact normal within 60
+     degrees of the direction), or ending, on a side nobody touched, inside another part (a
+     bar's hidden end in the other bar) or within the contacts' box (:data:`SUPPORT_MARGIN`);
+     else a union with it is refused.
 3. **The criterion** (a robust BIC): for a union U of K parts,
    ``cost(U) = sum_i min(z_i^2, CAP^2) + K P ln n``, ``P = 13`` parameters a part, with
    ``z_i^2 = (d_i / sigma_d)^2 + (|e_i| / sigma_n)^2``, ``d_i`` the contact's first-order signed
@@ -126,6 +132,7 @@ class _Data:
         self.size_hint = size_hint
         self.evaluations = 0
         self.allowed: Array | None = None  # (2, 3): the box no part may leave
+        self.walls: Array | None = None  # free-space points on its faces
         self.sigma_d = self.sigma_n = 0.0
         if noise is not None:
             self.sigma_d = max(noise * size_hint, DISTANCE_FLOOR * self.size)
@@ -191,15 +198,74 @@ def _part_fit(
     return result.superquadric.to_vector()  # type: ignore[attr-defined]
 
 
+#: Share of a part's volume that may lie outside the allowed box (a thin tip poking through).
+OUTSIDE_SHARE: float = 0.02
+#: Free-space points per side of each face of the allowed box.
+WALL_GRID: int = 8
+
+
+def _box_walls(box: Array) -> Array:
+    """(6 WALL_GRID^2, 3) points on the faces of a box (2, 3): free space that keeps every part
+    inside it while it is refined (the box is then checked again)."""
+    lo, hi = box
+    t = (np.arange(WALL_GRID) + 0.5) / WALL_GRID
+    u, v = (g.ravel() for g in np.meshgrid(t, t))
+    out = []
+    for axis in range(3):
+        a, b = [k for k in range(3) if k != axis]
+        for side in (lo[axis], hi[axis]):
+            face = np.empty((len(u), 3))
+            face[:, axis] = side
+            face[:, a] = lo[a] + u * (hi[a] - lo[a])
+            face[:, b] = lo[b] + v * (hi[b] - lo[b])
+            out.append(face)
+    return np.concatenate(out)
+
+
+#: How far beyond the contacts' box an untouched side of a part may end, in data sizes.
+SUPPORT_MARGIN: float = 0.1
+#: A part is touched from a side of one of its axes when one of its contacts' normals is within
+#: 60 degrees of that direction (cosine above this).
+SIDE_COSINE: float = 0.5
+
+
+def _supported(data: _Data, vectors: Array, owner: NDArray[np.int64]) -> bool:
+    """True when every part is touched from both sides along each of its axes, or, on a side
+    nobody touched, ends inside another part (its hidden end) or within the contacts' box
+    (:data:`SUPPORT_MARGIN` data sizes more): otherwise nothing says how far it reaches there
+    (one-sided contacts)."""
+    if data.allowed is None or len(vectors) < 2:
+        return True
+    margin = SUPPORT_MARGIN * data.size
+    lo, hi = data.points.min(axis=0) - margin, data.points.max(axis=0) + margin
+    shapes = [Superquadric.from_vector(v) for v in vectors]
+    for k, part in enumerate(shapes):
+        cos = data.normals[owner == k] @ part.rotation  # normals in the part's axes
+        others = [o for j, o in enumerate(shapes) if j != k]
+        for axis in range(3):
+            for sign in (1.0, -1.0):
+                if np.any(sign * cos[:, axis] > SIDE_COSINE):
+                    continue
+                tip = np.zeros(3)
+                tip[axis] = 0.98 * sign * part.a[axis]
+                end = part.to_world(tip[None, :])
+                if np.all((end >= lo) & (end <= hi)):
+                    continue
+                if not any(bool(o.contains(end)[0]) for o in others):
+                    return False
+    return True
+
+
 def _inside_allowed(data: _Data, vectors: Array) -> bool:
-    """True when every part's surface (a coarse mesh's vertices) lies in the allowed box
-    (:data:`REACH`)."""
+    """True when no part has more than :data:`OUTSIDE_SHARE` of its volume outside the allowed
+    box (:data:`REACH`; 2000 seeded interior samples a part)."""
     if data.allowed is None:
         return True
     lo, hi = data.allowed
     for v in vectors:
-        vertices, _ = Superquadric.from_vector(v).surface_mesh(16)
-        if np.any(vertices < lo) or np.any(vertices > hi):
+        inside = Superquadric.from_vector(v).sample_interior(2000, rng=0)
+        out = np.any((inside < lo) | (inside > hi), axis=1)
+        if np.mean(out) > OUTSIDE_SHARE:
             return False
     return True
 
@@ -223,14 +289,16 @@ def _alternate(data: _Data, vectors: Array, how: str) -> Candidate | None:
         noise = sigma_d / max(data.size_hint, 1e-9)
         for j in range(k):
             mine = owner == j
-            others = data.points[~mine] + offset * data.normals[~mine]
-            free = others if data.free is None else np.concatenate([others, data.free])
+            free = data.points[~mine] + offset * data.normals[~mine]
+            for extra in (data.free, data.walls):
+                if extra is not None:
+                    free = np.concatenate([free, extra])
             objective = ml_objective(data.points[mine], data.normals[mine], REFINE_BUDGET,
                                      noise, free, _OPTIONS)  # fmt: skip
             least_squares_run(objective, vectors[j])
             vectors[j] = objective.best_vector
             data.evaluations += objective.evaluations
-    if not _inside_allowed(data, vectors):
+    if not _inside_allowed(data, vectors) or not _supported(data, vectors, owner):
         return None
     return data.candidate(vectors, owner, how)
 
@@ -291,13 +359,14 @@ def multi_search(
     box = np.stack([np.minimum(points.min(axis=0), outline.min(axis=0)),
                     np.maximum(points.max(axis=0), outline.max(axis=0))])  # fmt: skip
     data.allowed = box + np.array([[-1.0], [1.0]]) * REACH * data.size
+    data.walls = _box_walls(data.allowed)
     if data.given is None:
         data.set_scales(one)
     # the criterion compares every part count at the same refinement: nH's part refined as the
     # parts of the unions are (the result of one part stays nH's own)
-    allowed, data.allowed = data.allowed, None
+    fence, data.allowed, data.walls = (data.allowed, data.walls), None, None
     refined = _alternate(data, single.to_vector()[None, :], "nH, refined for the criterion")
-    data.allowed = allowed
+    data.allowed, data.walls = fence
     top = MAX_PARTS if parts is None else parts
     top = min(top, data.n // MIN_PART_CONTACTS)
     chosen = [refined if refined is not None else one]  # the best of each part count, in order

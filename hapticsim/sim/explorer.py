@@ -69,6 +69,9 @@ class ExplorerConfig:
         max_sim_time: longest simulated time of one exploration [s].
         pattern_timeout: longest simulated time of one pattern [s].
         max_misses: the exploration gives up after this many probes in a row met nothing.
+        patch_misses: a patch gives up after this many of its probes in a row met nothing, and
+            the strategy goes on with its next pattern (a patch planned on the rough object
+            where the true one has a notch: the L-block's inner corner).
         transit: how the palm gets from one pattern to the next. ``"teleport"`` (default): the
             hand is put at rest at the new pose when it is clear of everything there
             (:meth:`Simulator.place`), or at the entry point `back_off` short of it, from
@@ -85,11 +88,13 @@ class ExplorerConfig:
     max_sim_time: float = 120.0
     pattern_timeout: float = 20.0
     max_misses: int = 30
+    patch_misses: int = 12
     transit: str = "teleport"
 
     def __post_init__(self) -> None:
         positive_fields(self, ("safe_distance", "back_off", "max_sim_time", "pattern_timeout"))
         positive_int(self.max_misses, "max_misses")
+        positive_int(self.patch_misses, "patch_misses")
         if self.transit not in TRANSITS:
             raise InvalidInputError(
                 f"`transit` must be one of {', '.join(TRANSITS)}, got {self.transit!r}"
@@ -377,7 +382,11 @@ class Explorer:
         remaining = list(probes)
         before = len(self.recorder)
         pattern = self.recorder.new_pattern("patch")
+        start_misses = self.misses
         while remaining and not self.recorder.full and not self.out_of_time:
+            patch_left = self.config.patch_misses - (self.misses - start_misses)
+            if patch_left <= 0:
+                break  # this patch meets nothing: leave it to the next pattern
             mean_aim = np.mean([p.aim_world for p in remaining], axis=0)
             mean_dir = np.mean([p.approach_world for p in remaining], axis=0)
             mean_dir /= np.linalg.norm(mean_dir)
@@ -397,7 +406,7 @@ class Explorer:
                 finger, group[0].start(standoff, radius), pose.position, pose.rotation, posture
             )
             self.move_palm(pose, mean_dir, {finger: q if err < 0.002 else posture})
-            limit = self.config.max_misses - self.misses
+            limit = min(self.config.max_misses - self.misses, patch_left)
             self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe, limit)])
             remaining = rest
         return len(self.recorder) - before
