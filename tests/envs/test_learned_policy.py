@@ -115,12 +115,15 @@ def test_the_shipped_policy_explores_better_than_random_touches() -> None:
 
     If the compact observation, the action mapping or the weights change out of step, the actor
     acts no better than at random. Measured (analytic backend, random objects, seeds 500..507,
-    default fit schedule), epsilon after 5 touches, on an AMD EPYC: learned 0.022, 0.035, 0.035,
-    0.046, 0.059, 0.033, 0.026, 0.034 (mean 0.036); random 0.040, 0.094, 0.048, 0.033, 0.041,
-    0.102, 0.141, 0.097 (mean 0.075): a ratio of 0.49. On the Intel CPU of the export, seeds
-    500..503: learned 0.023, 0.043, 0.037, 0.037, random 0.212, 0.098, 0.130, 0.033. Random
-    episodes move most between CPUs (the fits of their scattered contacts), so the guard holds
-    the learned mean to a share of random's over eight paired episodes, not random to a bar.
+    default fit schedule), epsilon after 5 touches, on an AMD EPYC with AVX-512: learned 0.022,
+    0.035, 0.035, 0.046, 0.059, 0.033, 0.026, 0.034; random 0.040, 0.094, 0.048, 0.033, 0.041,
+    0.102, 0.141, 0.097. On an AMD EPYC without it (AVX2): learned 0.022, 0.034, 0.035, 0.034,
+    0.049, 0.040, 0.030, 0.267; random 0.185, 0.097, 0.168, 0.029, 0.043, 0.112, 0.134, 0.062.
+    On the Intel CPU of the export, seeds 500..503: learned 0.023, 0.043, 0.037, 0.037, random
+    0.212, 0.098, 0.130, 0.033. An episode's last digits differ between CPUs (the actor's matrix
+    products run OpenBLAS's kernel for the CPU), and a few touches later the episode may be
+    another one (seed 507 above): so the guard holds medians, learned's to a share of random's
+    (0.33-0.50 measured), not single episodes or means to a bar.
     """
     env = HapticExploreEnv(backend="analytic", objects="random", touch_budget=5)
     seeds = range(500, 508)
@@ -128,5 +131,5 @@ def test_the_shipped_policy_explores_better_than_random_touches() -> None:
     rand = [
         run_episode(env, make_policy("random", env, rng=s), seed=s).epsilon[-1] for s in seeds
     ]
-    assert max(learned) < 0.08, learned
-    assert np.mean(learned) < 0.6 * np.mean(rand), (learned, rand)
+    assert np.median(learned) < 0.05, learned
+    assert np.median(learned) < 0.7 * np.median(rand), (learned, rand)
