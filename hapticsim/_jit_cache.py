@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import hashlib
 import os
-import sys
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -58,38 +57,36 @@ def ensure_fresh() -> None:
             module = _PACKAGE / name
             for cached in (module.parent / "__pycache__").glob(f"{module.stem}.*.nb[ic]"):
                 cached.unlink(missing_ok=True)
+        for old in marker_dir().glob("hapticsim-ready-*"):
+            old.unlink(missing_ok=True)
         stamp.parent.mkdir(exist_ok=True)
         stamp.write_text(current + "\n")
     except OSError:
         pass
 
 
-def is_cold() -> bool:
-    """True when the compiled kernels will be compiled on first use here: no cached index of the
-    EOF kernel beside its source, in a package directory numba can write to (and no
-    ``NUMBA_CACHE_DIR`` sending the cache elsewhere, where this cannot tell)."""
-    pycache = _PACKAGE / "geometry" / "__pycache__"
-    if os.environ.get("NUMBA_CACHE_DIR") or not os.access(pycache.parent, os.W_OK):
-        return False
-    return not any(pycache.glob("_eof_compiled.*.nbi"))
+def marker_dir() -> Path:
+    """Where numba keeps the compiled modules' cache: ``NUMBA_CACHE_DIR`` or the package's own
+    ``__pycache__`` (where :func:`ensure_fresh` keeps its stamp)."""
+    custom = os.environ.get("NUMBA_CACHE_DIR")
+    return Path(custom) if custom else _PACKAGE / "__pycache__"
 
 
-#: Shown on a terminal before the first compile of a fresh installation.
-COLD_NOTE = (
-    "hapticsim: compiling the fitter's kernels on first use (about 30-90 s on 2 cores; "
-    "cached for later runs)"
-)
+def _marker(name: str, tag: str) -> Path:
+    return marker_dir() / f"hapticsim-ready-{name}-{fingerprint()[:16]}-{tag}"
 
 
-def note_if_cold(stream=None) -> bool:  # noqa: ANN001 - a text stream
-    """Print :data:`COLD_NOTE` on `stream` (default stderr) when it is a terminal and the cache
-    is cold; returns whether it printed. Pipes and files (scripts, tests) get nothing."""
-    stream = sys.stderr if stream is None else stream
+def is_marked(name: str, tag: str) -> bool:
+    """Whether :func:`mark` recorded `name` as compiled into the cache for these sources and
+    the code-generation target `tag`."""
+    return _marker(name, tag).is_file()
+
+
+def mark(name: str, tag: str) -> None:
+    """Record that `name`'s kernels are in the cache (errors, e.g. read-only, are ignored)."""
     try:
-        if not stream.isatty() or not is_cold():
-            return False
-        stream.write(COLD_NOTE + "\n")
-        stream.flush()
-    except (OSError, ValueError):
-        return False
-    return True
+        path = _marker(name, tag)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.touch()
+    except OSError:
+        pass

@@ -218,3 +218,24 @@ def test_huge_integer_arguments_are_refused_up_front(
     out, err = capsys.readouterr()
     assert_bad_input(code, out, err, argv[0], match)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["c.npz"]
+
+
+def test_fit_takes_several_files_and_checks_them_all_first(capsys, tmp_path: Path) -> None:
+    from hapticsim.data import get_body
+
+    files = []
+    for seed in (0, 1):
+        c = paper_dataset(get_body("cube"), noise=0.02, rng=seed)
+        path = tmp_path / f"c{seed}.npz"
+        np.savez(path, points=c.points, normals=c.normals)
+        files.append(str(path))
+    code, out, err = run(capsys, "fit", *files, "--budget", "400", "--out", str(tmp_path / "f"))
+    assert code == 0
+    results = json.loads(out)
+    assert [r["contacts"] for r in results] == files
+    assert all(r["seconds"] < 5 and "setup_seconds" in r for r in results)
+    assert json.loads((tmp_path / "f").read_text()) == results
+    one = json.loads(run(capsys, "fit", files[0], "--budget", "400")[1])
+    assert "contacts" not in one and one["superquadric"] == results[0]["superquadric"]
+    code, out, err = run(capsys, "fit", files[0], str(tmp_path / "none.npz"))
+    assert_bad_input(code, out, err, "fit", "none.npz")

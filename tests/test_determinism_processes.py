@@ -13,7 +13,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 #: Keys whose values are wall-clock measurements.
-TIMING_KEYS = {"seconds", "wall_time", "steps_per_second"}
+TIMING_KEYS = {"seconds", "setup_seconds", "wall_time", "steps_per_second"}
 
 _RUN = """
 import sys

@@ -53,33 +53,24 @@ def test_the_list_names_every_module_with_cached_kernels() -> None:
     assert cached <= set(_jit_cache.COMPILED), f"add {sorted(cached - set(_jit_cache.COMPILED))}"
 
 
-class _Terminal:
-    def __init__(self, tty: bool) -> None:
-        self.tty, self.text = tty, ""
-
-    def isatty(self) -> bool:
-        return self.tty
-
-    def write(self, text: str) -> None:
-        self.text += text
-
-    def flush(self) -> None:
-        pass
-
-
-def test_a_cold_cache_is_announced_on_a_terminal_only(
+def test_ready_markers_name_sources_and_target_and_go_with_stale_caches(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(_jit_cache, "_PACKAGE", tmp_path)
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    (tmp_path / "geometry" / "__pycache__").mkdir(parents=True)
-    terminal, pipe = _Terminal(True), _Terminal(False)
-    assert _jit_cache.is_cold()
-    assert _jit_cache.note_if_cold(terminal) and "compiling" in terminal.text
-    assert not _jit_cache.note_if_cold(pipe) and pipe.text == ""  # scripts and tests: silent
-    index = tmp_path / "geometry" / "__pycache__" / "_eof_compiled.kernel-1.py311.nbi"
-    index.write_bytes(b"x")
-    assert not _jit_cache.is_cold() and not _jit_cache.note_if_cold(_Terminal(True))
-    index.unlink()
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))  # cannot tell: silent
-    assert not _jit_cache.is_cold()
+    _layout(tmp_path)
+    monkeypatch.setattr(_jit_cache, "_checked", False)
+    _jit_cache.ensure_fresh()
+    assert not _jit_cache.is_marked("eof-ga", "cpu1")
+    _jit_cache.mark("eof-ga", "cpu1")
+    assert _jit_cache.is_marked("eof-ga", "cpu1")
+    assert not _jit_cache.is_marked("eof-ga", "cpu2")  # another code-generation target
+    assert not _jit_cache.is_marked("eof-lm", "cpu1")
+    (tmp_path / _jit_cache.COMPILED[1]).write_text("# edited\n")  # the sources change
+    assert not _jit_cache.is_marked("eof-ga", "cpu1")
+    monkeypatch.setattr(_jit_cache, "_checked", False)
+    _jit_cache.ensure_fresh()
+    assert not list((tmp_path / "__pycache__").glob("hapticsim-ready-*"))
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))  # numba's own choice
+    _jit_cache.mark("eof-lm", "cpu1")
+    assert list((tmp_path / "elsewhere").glob("hapticsim-ready-eof-lm-*"))

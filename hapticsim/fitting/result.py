@@ -25,7 +25,7 @@ class FitResult:
         method: the method name (one of :data:`hapticsim.fitting.methods.METHODS`).
         eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H).
         evaluations: EOF evaluations used (SPEC §3), <= the budget.
-        seconds: wall-clock time of the fit [s].
+        seconds: wall-clock time of the fit [s], without getting its compiled kernels ready.
         history: ``(evaluations (k,) int, best EOF so far (k,) float)``, after each call of the
             EOF (a population or a single vector), in the search's own metric (the EOF with the
             ``distance`` the fit searched with; without taper it equals the SPEC EOF).
@@ -39,6 +39,9 @@ class FitResult:
             or ``multi``'s union.
         selection: ``multi`` only: how the number of parts was chosen
             (:func:`hapticsim.fitting.multi.multi_search`), else None.
+        setup_seconds: wall-clock time spent before the fit loading its compiled kernels from
+            numba's cache, or compiling them on a fresh installation
+            (:func:`hapticsim.fitting.kernels.prepare`; 0 once a process has them).
     """
 
     superquadric: Superquadric
@@ -52,6 +55,7 @@ class FitResult:
     noise: float | None = None
     solid: Solid | None = None
     selection: dict[str, Any] | None = None
+    setup_seconds: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.superquadric, Superquadric):
@@ -76,12 +80,13 @@ class FitResult:
         object.__setattr__(self, "eof", float(self.eof))
         object.__setattr__(self, "evaluations", int(self.evaluations))
         object.__setattr__(self, "seconds", float(self.seconds))
+        object.__setattr__(self, "setup_seconds", float(self.setup_seconds))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``,
         ``solid`` (SPEC §10: the superquadric again, or multi's union), ``status`` and
-        ``message``, ``noise`` for nML and ``selection`` for multi (the history is left out:
-        see :attr:`history`)."""
+        ``message``, ``setup_seconds``, ``noise`` for nML and ``selection`` for multi (the
+        history is left out: see :attr:`history`)."""
         extra: dict[str, Any] = {} if self.noise is None else {"noise": float(self.noise)}
         if self.selection is not None:
             extra["selection"] = self.selection
@@ -93,6 +98,7 @@ class FitResult:
             "eof": self.eof,
             "evaluations": self.evaluations,
             "seconds": self.seconds,
+            "setup_seconds": self.setup_seconds,
             "status": self.status,
             "message": self.message,
             **extra,

@@ -60,7 +60,7 @@ NP = 13
 #: Compilation options of everything here: cached machine code, no GIL, IEEE division (inf/nan
 #: instead of exceptions, which would stop vectorisation).
 JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
-_INLINE = {"inline": "always", **JIT}
+_INLINE = {"forceinline": True, **JIT}
 
 
 def unpack(sq) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001 - a Superquadric
@@ -690,6 +690,16 @@ def ml_residuals_posed(
 
 
 @njit(**JIT)
+def _vector_fields(vectors: np.ndarray, rot: np.ndarray) -> tuple:
+    """``(a, eps, taper, rot, center)`` of P parameter vectors (P, 13) as contiguous copies, so
+    the posed kernels are compiled for one array layout only (slices would add a second)."""
+    return (
+        vectors[:, 0:3].copy(), vectors[:, 3:5].copy(), vectors[:, 5:7].copy(), rot,
+        vectors[:, 10:13].copy(),
+    )  # fmt: skip
+
+
+@njit(**JIT)
 def ml_residuals_vectors(
     points: np.ndarray, normals: np.ndarray, with_normals: bool, vectors: np.ndarray,
     settings: np.ndarray, free: np.ndarray, out: np.ndarray, tally: np.ndarray,
@@ -700,8 +710,7 @@ def ml_residuals_vectors(
     for k in range(count):
         rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
     ml_residuals_posed(
-        points, normals, with_normals, vectors[:, 0:3], vectors[:, 3:5], vectors[:, 5:7], rot,
-        vectors[:, 10:13], settings, free, out, tally,
+        points, normals, with_normals, *_vector_fields(vectors, rot), settings, free, out, tally,
     )  # fmt: skip
 
 
@@ -810,8 +819,7 @@ def residuals_vectors(
     for k in range(count):
         rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
     residuals_posed(
-        points, normals, with_normals, vectors[:, 0:3], vectors[:, 3:5], vectors[:, 5:7], rot,
-        vectors[:, 10:13], lam, tapered, out, tally,
+        points, normals, with_normals, *_vector_fields(vectors, rot), lam, tapered, out, tally,
     )  # fmt: skip
 
 

@@ -35,7 +35,7 @@ __all__ = [
     "unpack",
 ]
 
-_INLINE = {"inline": "always", **JIT}
+_INLINE = {"forceinline": True, **JIT}
 
 
 @njit(**JIT)
