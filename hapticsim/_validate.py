@@ -208,3 +208,41 @@ def positive_fields(obj: Any, names: tuple[str, ...] | list[str], unit: str = ""
         value = getattr(obj, name)
         if finite_float(value, name) <= 0:
             raise InvalidInputError(f"`{name}` must be > 0{suffix}, got {value!r}")
+
+
+def _one_edit(a: str, b: str) -> bool:
+    """Whether `a` becomes `b` by one insertion, deletion, substitution or swap of neighbours."""
+    if a == b or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) == len(b):
+        diff = [i for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y]
+        if len(diff) == 1:
+            return True
+        i = diff[0]
+        return len(diff) == 2 and diff[1] == i + 1 and a[i] == b[i + 1] and a[i + 1] == b[i]
+    short, long = (a, b) if len(a) < len(b) else (b, a)
+    i = 0
+    while i < len(short) and short[i] == long[i]:
+        i += 1
+    return short[i:] == long[i + 1 :]
+
+
+def suggestion(name: Any, choices: Any) -> str | None:
+    """The choice `name` was probably meant to be: the same but for case, else the one choice
+    one edit away (case ignored); None when there is no such single choice."""
+    if not isinstance(name, str):
+        return None
+    options = [str(c) for c in choices]
+    folded = name.casefold()
+    same = [c for c in options if c.casefold() == folded]
+    if len(same) == 1 and same[0] != name:
+        return same[0]
+    near = [c for c in options if _one_edit(folded, c.casefold())]
+    return near[0] if len(near) == 1 else None
+
+
+def did_you_mean(name: Any, choices: Any) -> str:
+    """``" (did you mean 'cube'?)"`` for :func:`suggestion`'s choice, or ``""``: the end of an
+    error message on a misspelt name."""
+    hit = suggestion(name, choices)
+    return "" if hit is None else f" (did you mean {hit!r}?)"

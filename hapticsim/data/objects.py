@@ -238,7 +238,11 @@ def _kind_of(source: str) -> str:
             f"unknown object file format {suffix!r} ({source}): give a superquadric .json or a "
             f"mesh file ({', '.join(s.lstrip('.').upper() for s in MESH_SUFFIXES)})"
         )
-    raise InvalidInputError(f"unknown object {source!r}: give {OBJECT_HELP}")
+    from hapticsim._validate import did_you_mean
+    from hapticsim.data.bodies import BODY_NAMES
+
+    hint = did_you_mean(source, (*BODY_NAMES, *RANDOM_KINDS))
+    raise InvalidInputError(f"unknown object {source!r}{hint}: give {OBJECT_HELP}")
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ stroke length, finger count, budget), never the ground truth:
   neighbourhood. Before the first fit, a sphere around the rough position stands in for the
   estimate.
 - :class:`LearnedPolicy`: a trained actor (:mod:`hapticsim.envs.learned`, numpy only) on the
-  compact observation of ``HapticExplore-v1``
+  compact observation of ``HapticExploreCompact-v0``
   (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
   the v0 observation. ``"learned"`` is the actor shipped in the package (trained by
   ``scripts/train_policy.py``; recipe and results in ``docs/policies/learned/``),
@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim._validate import did_you_mean
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv, fibonacci_sphere
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.touch import encode_touch, tangent_frame
@@ -274,7 +275,7 @@ def _distance_to_set(points: Array, contacts: Array) -> Array:
 
 
 class LearnedPolicy(Policy):
-    """A trained actor on the compact observation of ``HapticExplore-v1``; deterministic.
+    """A trained actor on the compact observation of ``HapticExploreCompact-v0``; deterministic.
 
     On a v0 environment (the comparisons, ``hapticsim policies evaluate``, the suites) it makes
     the v1 observation itself with a :class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`
@@ -342,7 +343,7 @@ class LearnedPolicy(Policy):
 
 
 def load_learned(path: str | Path | None, config: Any = None):  # noqa: ANN201 - learned.Actor
-    """The actor of a weight file, checked for ``HapticExplore-v1`` and an environment config.
+    """The actor of a weight file, checked for ``HapticExploreCompact-v0`` and a config.
 
     Args:
         path: the weight file; None: the shipped one (:data:`LEARNED_WEIGHTS`).
@@ -398,7 +399,7 @@ def check_policy_name(name: Any) -> str:
         return name
     raise InvalidInputError(
         f"`policy` must be one of {POLICY_NAMES} or '{LEARNED_PREFIX}PATH' (a weight file), got "
-        f"{name!r}"
+        f"{name!r}{did_you_mean(name, POLICY_NAMES)}"
     )
 
 

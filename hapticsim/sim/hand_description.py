@@ -60,6 +60,7 @@ from typing import Any
 
 import mujoco
 
+from hapticsim._validate import did_you_mean
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim.models import models_dir
 from hapticsim.tactile.pad import DEFAULT_PAD_GRID
@@ -568,7 +569,7 @@ def load_hand(hand: str | Path | HandDescription | None = None) -> HandDescripti
     else:
         raise HandDescriptionError(
             f"`hand` must be one of {', '.join(HAND_NAMES)} or a .toml hand description, "
-            f"got {hand!r}"
+            f"got {hand!r}{did_you_mean(hand, HAND_NAMES)}"
         )
     path = path.resolve()
     return _load_file(str(path), path.stat().st_mtime)

@@ -35,6 +35,7 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import Any
 
+from hapticsim._validate import did_you_mean
 from hapticsim.errors import InvalidInputError
 from hapticsim.suites.kinds import REQUIRED, Kind, get_kind
 
@@ -162,7 +163,8 @@ def load_suite(name_or_path: str | Path) -> Suite:
         path = Path(name_or_path)
         if path.suffix.lower() != ".toml" or not path.is_file():
             raise InvalidInputError(
-                f"unknown suite {str(name_or_path)!r}: the suites are "
+                f"unknown suite {str(name_or_path)!r}{did_you_mean(name_or_path, suite_names())}: "
+                "the suites are "
                 f"{', '.join(suite_names())}, or give the path of a suite .toml file"
             )
     try:

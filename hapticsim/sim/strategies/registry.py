@@ -12,6 +12,7 @@ from types import MappingProxyType
 
 import numpy as np
 
+from hapticsim._validate import did_you_mean
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim.explorer import Explorer
 
@@ -48,6 +49,7 @@ def get_strategy(name: str) -> Strategy:
     if not isinstance(name, str) or name not in _REGISTRY:
         raise InvalidInputError(
             f"`strategy` must be one of {', '.join(strategy_names())}, got {name!r}"
+            f"{did_you_mean(name, strategy_names())}"
         )
     return _REGISTRY[name]
 
