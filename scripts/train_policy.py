@@ -1,7 +1,7 @@
-"""Train an exploration policy on hapticsim/HapticExplore-v1 (analytic backend) and export it.
+"""Train an exploration policy on hapticsim/HapticExploreCompact-v0 (analytic) and export it.
 
 Off-policy (SAC, TQC, CrossQ) or on-policy (PPO) learners from stable-baselines3 / sb3-contrib on
-the compact observation of ``HapticExplore-v1``, ``--n-envs`` environments in subprocesses,
+the compact observation of ``HapticExploreCompact-v0``, ``--n-envs`` environments in subprocesses,
 seeded, checkpointed and resumable. Every ``--val-every`` steps the current deterministic actor
 (exported to numpy, exactly what ships) runs on a fixed validation set of objects (environment
 seeds 10,000 + i, never used for training or by ``hapticsim policies evaluate --seed 0``) and the
@@ -175,12 +175,12 @@ def make_vec_env(args: argparse.Namespace, start_step: int) -> Any:
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import SubprocVecEnv
 
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_V1_ID
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID
 
     # "hapticsim:<id>" makes Gymnasium import hapticsim (which registers the id) in the
     # subprocesses, whatever their start method.
     return sb3_make_vec_env(
-        "hapticsim:" + HAPTIC_EXPLORE_V1_ID, n_envs=args.n_envs,
+        "hapticsim:" + HAPTIC_EXPLORE_COMPACT_ID, n_envs=args.n_envs,
         seed=TRAIN_SEED + 10_000 * args.seed + start_step, env_kwargs=env_kwargs(args),
         vec_env_cls=SubprocVecEnv if args.n_envs > 1 else None,
     )  # fmt: skip

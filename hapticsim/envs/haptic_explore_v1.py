@@ -1,4 +1,4 @@
-"""``hapticsim/HapticExplore-v1``: the exploration task with a compact observation for learners.
+"""``hapticsim/HapticExploreCompact-v0``: the exploration task, compact observation for learners.
 
 See :class:`HapticExploreV1Env`. The compact observation is made by :class:`CompactObserver`
 from what ``HapticExplore-v0`` shows (its observation and the agent's own past actions), so a
@@ -30,8 +30,9 @@ from hapticsim.geometry.rays import raycast_many
 
 Array = NDArray[np.float64]
 
-#: Version of the environment this module defines (stored beside trained weights).
-ENV_ID: str = "hapticsim/HapticExplore-v1"
+#: Id of the environment this module defines (stored beside trained weights; weights of its
+#: former id, ``hapticsim/HapticExplore-v1``, are taken as its own).
+ENV_ID: str = "hapticsim/HapticExploreCompact-v0"
 #: Fixed approach directions of the coverage features (Fibonacci lattice, object-centred frame).
 N_DIRECTIONS: int = 32
 #: Length of the compact observation: 13 fit + fit_valid + eof + touches + contacts + 32 gaps

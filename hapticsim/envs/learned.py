@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.envs.registration import canonical_id
 from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
@@ -278,7 +279,7 @@ def load_actor(
     except InvalidInputError as exc:
         raise InvalidInputError(f"policy weights file {str(path)!r}: {exc}") from None
     wanted = []
-    if env_id is not None and meta.get("env_id") != env_id:
+    if env_id is not None and canonical_id(str(meta.get("env_id"))) != canonical_id(env_id):
         wanted.append(f"{env_id}")
     if obs_dim is not None and actor.obs_dim != obs_dim:
         wanted.append(f"observation size {obs_dim}")

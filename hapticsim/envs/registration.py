@@ -5,9 +5,13 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
 ``gymnasium.make("hapticsim:hapticsim/HapticExplore-v0")`` without a prior import. Versions:
 
 - ``hapticsim/HapticExplore-v0``: the exploration task (Dict observation of contacts and fit);
-- ``hapticsim/HapticExplore-v1``: the same task with a compact observation, an action without
-  finger and a log-epsilon reward, for learners
-  (:class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`);
+- ``hapticsim/HapticExploreCompact-v0``: the same task with a compact observation, an action
+  without finger and a log-epsilon reward, for learners
+  (:class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`). It was registered as
+  ``hapticsim/HapticExplore-v1`` until 0.1 (SPEC §8: another task is another name, not a newer
+  version), which made ``gym.make`` of v0 warn that it was "out of date"; the old id still
+  makes it, with a :class:`FutureWarning` naming the new one, and is kept out of Gymnasium's
+  version lookup, so v0 warns of nothing;
 - ``hapticsim/HapticExploreTactile-v0``: the task felt through taxel pads, their images in the
   observation (:class:`~hapticsim.envs.haptic_explore_tactile_v0.HapticExploreTactileEnv`): an
   environment of its own name, another observation (SPEC §8).
@@ -19,10 +23,12 @@ from __future__ import annotations
 HAPTIC_EXPLORE_ID: str = "hapticsim/HapticExplore-v0"
 #: Its string entry point (imported only when the environment is made).
 HAPTIC_EXPLORE_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v0:HapticExploreEnv"
-#: Id of version 1 (compact observation for learners).
-HAPTIC_EXPLORE_V1_ID: str = "hapticsim/HapticExplore-v1"
+#: Id of the compact variant for learners (its module is still ``haptic_explore_v1``).
+HAPTIC_EXPLORE_COMPACT_ID: str = "hapticsim/HapticExploreCompact-v0"
 #: Its string entry point.
-HAPTIC_EXPLORE_V1_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
+HAPTIC_EXPLORE_COMPACT_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
+#: Ids that name another one now (old -> new): they still make it, with a FutureWarning.
+RENAMED_IDS: dict[str, str] = {"hapticsim/HapticExplore-v1": HAPTIC_EXPLORE_COMPACT_ID}
 #: Id of the tactile environment (taxel images in the observation).
 HAPTIC_EXPLORE_TACTILE_ID: str = "hapticsim/HapticExploreTactile-v0"
 #: Its string entry point.
@@ -31,14 +37,47 @@ HAPTIC_EXPLORE_TACTILE_ENTRY_POINT: str = (
 )
 
 
-def register_envs() -> None:
-    """Register ``hapticsim/HapticExplore-v0``, ``-v1`` and ``hapticsim/HapticExploreTactile-v0``;
-    calling it again does nothing."""
-    from gymnasium.envs.registration import register, registry
+def canonical_id(env_id: str) -> str:
+    """The id an environment id stands for today (a renamed id gives its new name)."""
+    return RENAMED_IDS.get(env_id, env_id)
 
+
+def make_renamed(old_id: str, **kwargs: object):  # noqa: ANN201 - a gymnasium.Env
+    """Entry point of a renamed id: warn, then make the environment of its new id."""
+    import warnings
+
+    import gymnasium as gym
+
+    new_id = RENAMED_IDS[old_id]
+    warnings.warn(
+        f"{old_id} is now {new_id} (another task, not a newer version of "
+        f"{HAPTIC_EXPLORE_ID}); the old id will be removed in a later release",
+        FutureWarning,
+        stacklevel=4,
+    )
+    return gym.make(new_id, **kwargs).unwrapped
+
+
+def register_envs() -> None:
+    """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0`` and
+    ``hapticsim/HapticExploreTactile-v0``, and the renamed ids (:data:`RENAMED_IDS`); calling
+    it again does nothing."""
+    from functools import partial
+
+    from gymnasium.envs.registration import EnvSpec, register, registry
+
+    for old_id in RENAMED_IDS:
+        if old_id in registry:
+            continue
+        # Under its old key, but with a name of its own: Gymnasium's version lookup (which made
+        # v0 "out of date") only sees specs named HapticExplore.
+        registry[old_id] = EnvSpec(
+            id=old_id.replace("-v", "Renamed-v"), entry_point=partial(make_renamed, old_id),
+            disable_env_checker=True,
+        )  # fmt: skip
     for env_id, entry_point in (
         (HAPTIC_EXPLORE_ID, HAPTIC_EXPLORE_ENTRY_POINT),
-        (HAPTIC_EXPLORE_V1_ID, HAPTIC_EXPLORE_V1_ENTRY_POINT),
+        (HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_COMPACT_ENTRY_POINT),
         (HAPTIC_EXPLORE_TACTILE_ID, HAPTIC_EXPLORE_TACTILE_ENTRY_POINT),
     ):
         if env_id in registry:

@@ -1,6 +1,8 @@
-"""HapticExplore-v1: compact observation, action without finger, log-epsilon reward."""
+"""HapticExploreCompact-v0 (was -v1): compact observation, action without finger, log-epsilon."""
 
 from __future__ import annotations
+
+import warnings
 
 import gymnasium as gym
 import numpy as np
@@ -24,7 +26,7 @@ from hapticsim.envs.haptic_explore_v1 import (
     finger_for_touch,
     v0_action,
 )
-from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, HAPTIC_EXPLORE_V1_ID
+from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_ID
 from hapticsim.envs.touch import decode_action
 from hapticsim.errors import InvalidInputError
 
@@ -39,13 +41,21 @@ def make(**kwargs: object) -> HapticExploreV1Env:
     return HapticExploreV1Env(backend="analytic", **kwargs)  # type: ignore[arg-type]
 
 
-def test_v1_is_registered_beside_an_unchanged_v0() -> None:
-    assert HAPTIC_EXPLORE_V1_ID == ENV_ID
-    spec = gym.spec(HAPTIC_EXPLORE_V1_ID)
+def test_the_compact_task_has_a_name_of_its_own_and_v0_warns_of_nothing() -> None:
+    assert HAPTIC_EXPLORE_COMPACT_ID == ENV_ID == "hapticsim/HapticExploreCompact-v0"
+    spec = gym.spec(HAPTIC_EXPLORE_COMPACT_ID)
     assert spec.entry_point == "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
-    assert spec.version == 1
+    assert spec.version == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # "out of date, upgrade to v1" was a DeprecationWarning
+        gym.make(HAPTIC_EXPLORE_ID, backend="analytic").close()
+    with pytest.warns(FutureWarning, match="HapticExplore-v1 is now hapticsim/HapticExploreCo"):
+        old = gym.make("hapticsim/HapticExplore-v1", backend="analytic", touch_budget=2)
+    assert isinstance(old.unwrapped, HapticExploreV1Env)
+    assert old.unwrapped.config.base.touch_budget == 2
+    old.close()
     assert gym.spec(HAPTIC_EXPLORE_ID).entry_point.endswith("haptic_explore_v0:HapticExploreEnv")
-    env = gym.make(HAPTIC_EXPLORE_V1_ID, backend="analytic", fit=FAST_FIT, touch_budget=2)
+    env = gym.make(HAPTIC_EXPLORE_COMPACT_ID, backend="analytic", fit=FAST_FIT, touch_budget=2)
     assert env.observation_space.shape == (OBS_DIM,)
     assert env.action_space.shape == (5,)
     env.close()

@@ -75,7 +75,7 @@ def test_weights_for_another_env_version_or_observation_size_are_refused(tmp_pat
     path = random_actor(env_id="hapticsim/HapticExplore-v0").save(tmp_path / "v0.npz")
     with pytest.raises(InvalidInputError, match="trained for hapticsim/HapticExplore-v0") as err:
         load_actor(path, env_id=ENV_ID, obs_dim=OBS_DIM)
-    assert "runs learned policies for hapticsim/HapticExplore-v1" in str(err.value)
+    assert "runs learned policies for hapticsim/HapticExploreCompact-v0" in str(err.value)
     path = random_actor(obs_dim=40).save(tmp_path / "small.npz")
     with pytest.raises(InvalidInputError, match="observation size 40") as err:
         load_actor(path, env_id=ENV_ID, obs_dim=OBS_DIM)

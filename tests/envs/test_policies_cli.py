@@ -91,4 +91,4 @@ def test_weights_for_another_env_version_are_refused_on_the_command_line(capsys,
     code, out, err = run_cli(capsys, "--policy", f"learned:{path}", "--quiet")
     assert code == 2 and out == ""
     assert "trained for hapticsim/HapticExplore-v0 with observation size 40" in err
-    assert "hapticsim/HapticExplore-v1" in err
+    assert "hapticsim/HapticExploreCompact-v0" in err
