@@ -114,6 +114,9 @@ class Comparison:
         baseline_commit, results_commit: the git commits recorded in the two files.
         suite_file_changed: the two runs read suite files of different content (SHA-256) under
             one id; the cases are still paired by id and parameters, and the table says so.
+        digests: ``{"same", "baseline", "results", "reasons"}``: whether the two metrics
+            digests are equal (bit-identical case records) and, when not, what differs between
+            the runs' provenance that can explain it (:func:`digest_reasons`).
     """
 
     suite: str
@@ -125,6 +128,7 @@ class Comparison:
     baseline_commit: str | None = None
     results_commit: str | None = None
     suite_file_changed: bool = False
+    digests: dict[str, Any] | None = None
 
     @property
     def regressions(self) -> tuple[str, ...]:
@@ -148,7 +152,7 @@ class Comparison:
             "paired": self.paired, "regressions": list(self.regressions),
             "improvements": list(self.improvements), "not_in_baseline": list(self.not_in_baseline),
             "baseline_commit": self.baseline_commit, "results_commit": self.results_commit,
-            "suite_file_changed": self.suite_file_changed,
+            "suite_file_changed": self.suite_file_changed, "digests": self.digests,
             "groups": [g.to_dict() for g in self.groups],
         }  # fmt: skip
 
@@ -199,6 +203,8 @@ class Comparison:
                 f"note: the suite file of {self.suite} changed between the two runs (another "
                 "SHA-256); cases were paired by id and parameters"
             )
+        if self.digests is not None:
+            lines.append(_digest_line(self.digests))
         return "\n".join(lines)
 
 
@@ -288,7 +294,72 @@ def compare_results(
         not_in_baseline=tuple(i for i in new_cases if i not in base_cases),
         baseline_commit=_commit(base), results_commit=_commit(new),
         suite_file_changed=None not in hashes and hashes[0] != hashes[1],
+        digests=_digests(base, new, paired, len(base_cases), len(new_cases)),
     )  # fmt: skip
+
+
+def digest_reasons(base: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
+    """What differs between two runs' provenance that can change a result's bytes: the commit
+    (or uncommitted changes), package versions, the suite file, and the code-generation targets
+    of the machine (:func:`hapticsim.suites.provenance.codegen_target`: numba's CPU, numpy's
+    SIMD target, the BLAS kernel), or the CPU model where a file predates those."""
+    reasons = []
+    commits = [_commit(d) for d in (base, new)]
+    dirty = [_field(d, "provenance", "git", "dirty") for d in (base, new)]
+    if None not in commits and commits[0] != commits[1]:
+        reasons.append(f"code: commit {commits[0][:10]} -> {commits[1][:10]}")
+    if any(dirty):
+        where = [n for n, d in zip(("the baseline", "the results"), dirty, strict=True) if d]
+        reasons.append("code: uncommitted changes in " + " and ".join(where))
+    packages = [_field(d, "provenance", "packages") or {} for d in (base, new)]
+    changed = sorted(k for k in set(packages[0]) | set(packages[1])
+                     if packages[0].get(k) != packages[1].get(k))  # fmt: skip
+    if changed:
+        reasons.append("packages: " + ", ".join(
+            f"{k} {packages[0].get(k)} -> {packages[1].get(k)}" for k in changed))  # fmt: skip
+    if base["suite"].get("sha256") != new["suite"].get("sha256"):
+        reasons.append("the suite file")
+    targets = [_field(d, "provenance", "machine", "codegen") for d in (base, new)]
+    if None not in targets:
+        keys = ("numba_cpu", "numba_features", "numpy_simd", "blas")
+        moved = [f"{k} {targets[0].get(k)} -> {targets[1].get(k)}" for k in keys
+                 if targets[0].get(k) != targets[1].get(k)]  # fmt: skip
+        if moved:
+            reasons.append("code-generation target: " + ", ".join(moved))
+    else:
+        cpus = [_field(d, "provenance", "machine", "cpu") for d in (base, new)]
+        if cpus[0] != cpus[1]:
+            reasons.append(f"CPU: {cpus[0]} -> {cpus[1]} (the baseline records no "
+                           "code-generation target)")  # fmt: skip
+    return reasons
+
+
+def _digests(
+    base: Mapping[str, Any], new: Mapping[str, Any], paired: list[str], n_base: int, n_new: int
+) -> dict[str, Any] | None:
+    """The digest part of a comparison (None when a file has no digest, or the results are a
+    selection of the baseline's cases: their digests cannot be equal)."""
+    digests = [_field(d, "summary", "metrics_sha256") for d in (base, new)]
+    if None in digests or not (len(paired) == n_base == n_new):
+        return None
+    same = digests[0] == digests[1]
+    return {"same": same, "baseline": digests[0], "results": digests[1],
+            "reasons": [] if same else digest_reasons(base, new)}  # fmt: skip
+
+
+def _digest_line(digests: Mapping[str, Any]) -> str:
+    """The table's last line on the digests."""
+    if digests["same"]:
+        return f"digests: identical ({digests['results'][:12]}): the same results, bit for bit"
+    reasons = digests["reasons"]
+    none = "none (same code, packages and code-generation target): a source of nondeterminism"
+    why = "; ".join(reasons) if reasons else none
+    return (
+        f"digests differ ({digests['baseline'][:12]} -> {digests['results'][:12]}), which "
+        f"these differences between the runs can explain: {why}. The verdicts above are the "
+        "paired statistics, and stand whether or not the bytes agree"
+        + ("" if reasons else "; please report it")
+    )
 
 
 def _field(data: Any, *keys: str) -> Any:

@@ -71,7 +71,7 @@ def git_state() -> dict[str, Any] | None:
 
 
 def machine() -> dict[str, Any]:
-    """System, CPU model, core count and Python of this machine."""
+    """System, CPU model, core count, Python and code-generation targets of this machine."""
     cpu = platform.processor() or None
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -86,7 +86,49 @@ def machine() -> dict[str, Any]:
         "cpu": cpu,
         "cores": os.cpu_count(),
         "python": platform.python_version(),
+        "codegen": codegen_target(),
     }
+
+
+def codegen_target() -> dict[str, Any]:
+    """The code-generation targets that decide a result's last digits on this machine.
+
+    ``numba_cpu`` and ``numba_features`` (a SHA-256 prefix of the feature string): what numba
+    compiles the kernels for (the host, or ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES``);
+    ``numpy_simd``: the best of numpy's dispatched SIMD targets this CPU runs (its exp, log,
+    sin, ... differ in the last bit between targets); ``blas``: the BLAS library and its kernel
+    for this CPU (the order of a matrix product's sums). Two runs with the same code, packages
+    and targets give the same bytes; across targets, results may differ in the last digits.
+    """
+    import hashlib
+
+    out: dict[str, Any] = {"numba_cpu": None, "numba_features": None, "numpy_simd": None,
+                           "blas": None}  # fmt: skip
+    try:
+        from numba.core.registry import cpu_target
+
+        _, name, features = cpu_target.target_context.codegen().magic_tuple()
+        out["numba_cpu"] = name
+        out["numba_features"] = hashlib.sha256(features.encode()).hexdigest()[:12]
+    except Exception:  # noqa: BLE001 - provenance never fails a run
+        pass
+    try:
+        from numpy._core import _multiarray_umath as umath
+
+        found = umath.__cpu_features__
+        usable = [t for t in umath.__cpu_dispatch__ if found.get(t)]
+        out["numpy_simd"] = usable[-1] if usable else umath.__cpu_baseline__[-1]
+    except Exception:  # noqa: BLE001
+        pass
+    try:
+        from threadpoolctl import threadpool_info
+
+        blas = [i for i in threadpool_info() if i.get("user_api") == "blas"]
+        if blas:
+            out["blas"] = f"{blas[0].get('internal_api')} {blas[0].get('architecture')}"
+    except Exception:  # noqa: BLE001
+        pass
+    return out
 
 
 def load_average() -> list[float] | None:

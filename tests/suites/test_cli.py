@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -262,3 +265,50 @@ def test_a_changed_suite_file_is_noted(
     assert code == 0 and "note: the suite file of tiny-v1 changed between the two runs" in out
     code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(baseline), "--json")
     assert code == 0 and json.loads(out)["suite_file_changed"] is False
+
+
+def test_compare_says_why_digests_differ(
+    tiny: tuple[Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _, baseline = tiny
+    data = json.loads(baseline.read_text())
+    code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(baseline))
+    assert "digests: identical" in out
+    machine = data["provenance"]["machine"]
+    assert set(machine["codegen"]) == {"numba_cpu", "numba_features", "numpy_simd", "blas"}
+    other = {**machine, "codegen": {**machine["codegen"], "numba_cpu": "generic"}}
+    moved = {**data, "provenance": {**data["provenance"], "machine": other},
+             "summary": {**data["summary"], "metrics_sha256": "f" * 64}}  # fmt: skip
+    path = tmp_path / "moved.json"
+    path.write_text(json.dumps(moved))
+    code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(path))
+    assert code == 0 and "no regression" in out  # the statistical verdict stands
+    assert "digests differ" in out and "numba_cpu " in out and "-> generic" in out
+    code, out, _ = _run(capsys, "suite", "compare", str(baseline), str(path), "--json")
+    digests = json.loads(out)["digests"]
+    assert digests["same"] is False and any("generic" in r for r in digests["reasons"])
+
+
+@pytest.mark.slow
+def test_another_code_generation_target_is_named_by_compare(
+    tiny: tuple[Path, Path], tmp_path: Path
+) -> None:
+    """Issue 22: a run under other targets (numba's generic CPU, numpy without its AVX2 routines,
+    another BLAS kernel) against the host's baseline: compare keeps its verdict (exit 0) and,
+    when the bytes differ, names the targets as the reason."""
+    suite, baseline = tiny
+    env = {**os.environ, "NUMBA_CPU_NAME": "generic", "NUMBA_CACHE_DIR": str(tmp_path / "nb"),
+           "NPY_DISABLE_CPU_FEATURES": "X86_V3", "OPENBLAS_CORETYPE": "Sandybridge"}  # fmt: skip
+    out = tmp_path / "other.json"
+    run = [sys.executable, "-m", "hapticsim.cli", "suite", "run", str(suite), "--out", str(out),
+           "--workers", "1", "--quiet"]  # fmt: skip
+    subprocess.run(run, env=env, check=True, capture_output=True, timeout=1200)
+    assert json.loads(out.read_text())["provenance"]["machine"]["codegen"]["numba_cpu"] == "generic"
+    done = subprocess.run(
+        [sys.executable, "-m", "hapticsim.cli", "suite", "compare", str(baseline), str(out),
+         "--json"], capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout
+    digests = json.loads(done.stdout)["digests"]
+    if not digests["same"]:
+        assert any("code-generation target" in r and "generic" in r for r in digests["reasons"])
