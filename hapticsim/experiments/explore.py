@@ -37,6 +37,7 @@ temporary name and renamed, so a failure leaves no half-written output.
 
 from __future__ import annotations
 
+import io
 import os
 import sys
 import time
@@ -190,6 +191,7 @@ def _explore(
         png_bytes,
     )
     from hapticsim.fitting import fit
+    from hapticsim.fitting.kernels import start_background
     from hapticsim.fitting.methods import uses_normals
     from hapticsim.fitting.ml import MLOptions
     from hapticsim.geometry import Superquadric
@@ -200,6 +202,9 @@ def _explore(
     from hapticsim.sim.video import ExplorationVideo
 
     start = time.perf_counter()
+    # A fresh installation compiles the fitter's kernels in worker processes while the hand
+    # explores (hapticsim.fitting.kernels); the fit below waits for them.
+    compiling = start_background(method, stream=sys.stderr if progress else io.StringIO())
     object_name = spec.name
     seeds = np.random.SeedSequence(seed).spawn(3)
     sim_rng, noise_rng = (np.random.default_rng(s) for s in seeds[:2])
@@ -246,6 +251,9 @@ def _explore(
         points, normals = add_noise(
             a["points_clean"], a["normals_clean"], sigma, truth.size, noise_rng
         )
+        if compiling is not None:
+            bar.set_postfix_str("compiling the fitter's kernels (once per installation)")
+            compiling.wait(say=lambda line: bar.set_postfix_str(line.removeprefix("hapticsim: ")))
         bar.set_postfix_str("fitting")
         # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of
         # the smallest fingertip radius (docs/nml/README.md: free space).
@@ -270,11 +278,14 @@ def _explore(
         )  # fmt: skip
         truth_file = truth_file_of(truth)
         sensed = f", {scene_config.skin.name} skin" if tactile else ""
+        hand_description = run.explorer.scene.hand.description
         report = exploration_figure_png(
             truth, estimate, a["points_clean"], a["normals_clean"], a["finger"],
-            f"{object_name}, {strategy} exploration ({run.count} contacts{sensed}, sigma_N = "
-            f"{sigma}), {method} fit: epsilon = {quality.epsilon:.3f}",
+            f"{object_name} touched by the {hand_description.name} hand, {strategy} exploration "
+            f"({run.count} contacts{sensed}, sigma_N = {sigma}), {method} fit: epsilon = "
+            f"{quality.epsilon:.3f}, IoU = {quality.iou:.3f}",
             tactile=_report_images(run) if tactile else None,
+            finger_names=[f.name for f in hand_description.fingers],
         )  # fmt: skip
     finally:
         bar.close()
@@ -342,7 +353,12 @@ def _explore(
         "contact_accuracy": accuracy,
         "sensing": scene_config.sensing,
         **({"skin": scene_config.skin.name, "unfelt": run.unfelt} if tactile else {}),
-        "fit": {"eof": result.eof, "evaluations": result.evaluations, "seconds": result.seconds},
+        "fit": {
+            "eof": result.eof,
+            "evaluations": result.evaluations,
+            "seconds": result.seconds,
+            "setup_seconds": result.setup_seconds,
+        },
         "simulation": sim_stats,
         "seconds": time.perf_counter() - start,
     }

@@ -2,8 +2,10 @@
 
 :class:`ExplorationVideo` hooks into a :class:`~hapticsim.sim.simulator.Simulator`
 (:attr:`Simulator.tick_hooks`) and renders a frame every ``speed / fps`` seconds of simulated
-time from the scene's ``overview`` camera, with every contact recorded so far as a red dot and
-the fingertips' current contacts in yellow. Between patterns the hand jumps to its next pose
+time, looking from the scene's ``overview`` camera's direction at the object and the whole hand
+(a free camera that follows the hand), with every contact recorded so far as a red dot, the
+fingertips' current contacts in yellow, and the contact count and simulated time in a corner.
+Between patterns the hand jumps to its next pose
 (free-space transit is not simulated, :class:`~hapticsim.sim.explorer.ExplorerConfig`).
 
 MP4 frames are streamed to ``ffmpeg`` (``imageio-ffmpeg``, the optional extra ``video``) so memory
@@ -44,21 +46,27 @@ class VideoConfig:
     Attributes:
         format: ``"mp4"`` (H.264 through imageio-ffmpeg) or ``"gif"``.
         fps: frames per second of the video.
-        speed: simulated seconds per second of video (1: real time).
+        speed: simulated seconds per second of video (default 2: twice real time, so that the
+            video costs at most about twice the run; 1: real time).
         width, height: frame size [px], multiples of 16 for MP4 (default 640 x 480; GIF 320 x
             240 when not given).
-        camera: camera of the scene.
-        max_frames: frames kept at most (later ones are dropped; a 20 s exploration at 25 fps
-            is 500 frames).
+        camera: camera of the scene; with `follow`, the direction the video looks from.
+        max_frames: frames kept at most (later ones are dropped; a 20 s exploration at 12.5
+            frames per simulated second is 250 frames).
+        follow: keep the object and the whole hand in frame (a free camera looking from the
+            scene camera's direction at the box of both, smoothed); False: the fixed camera.
+        caption: draw the contact count and the simulated time in the top left corner.
     """
 
     format: str = "mp4"
     fps: int = 25
-    speed: float = 1.0
+    speed: float = 2.0
     width: int | None = None
     height: int | None = None
     camera: str = "overview"
     max_frames: int = 3000
+    follow: bool = True
+    caption: bool = True
 
     def __post_init__(self) -> None:
         if self.format not in VIDEO_FORMATS:
@@ -108,6 +116,8 @@ class ExplorationVideo:
         self._gif: list[NDArray[np.uint8]] = []
         self._writer = None
         self._path: Path | None = None
+        self._camera: mujoco.MjvCamera | None = None
+        self._view: tuple[NDArray[np.float64], float] | None = None  # smoothed centre, radius
 
     def attach(self, sim: Simulator, recorder: Recorder) -> None:
         """Start taking frames of `sim`, drawing the contacts of `recorder`."""
@@ -115,6 +125,8 @@ class ExplorationVideo:
         self._renderer = make_renderer(sim.model, cfg.width, cfg.height)
         self._recorder = recorder
         self._next_time = sim.time
+        self._view = None
+        self._camera = _follow_camera(sim.model, cfg.camera) if cfg.follow else None
         if cfg.format == "mp4":
             import imageio.v2 as imageio
 
@@ -136,7 +148,11 @@ class ExplorationVideo:
             return
         self._next_time = sim.time + self.config.speed / self.config.fps
         renderer = self._renderer
-        renderer.update_scene(sim.data, camera=self.config.camera)
+        if self._camera is not None:
+            self._aim(sim)
+        renderer.update_scene(
+            sim.data, camera=self._camera if self._camera is not None else self.config.camera
+        )
         # shadow maps are 90 % of a frame on a CPU renderer (~0.45 s against 0.05 s at 640 x 480)
         renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False
         if self._recorder is not None and len(self._recorder):
@@ -147,11 +163,34 @@ class ExplorationVideo:
         frame = renderer.render()
         if sim.tactile is not None:  # the pads' pressure images along the bottom edge
             frame = pad_strip(frame, sim.tactile.read(sim.data).pressure)
+        if self.config.caption:
+            count = 0 if self._recorder is None else len(self._recorder)
+            frame = caption(frame, f"{count} contacts   t = {sim.time:5.1f} s")
         if self._writer is not None:
             self._writer.append_data(frame)
         else:
             self._gif.append(frame.copy())
         self.frames += 1
+
+    def _aim(self, sim: Simulator) -> None:
+        """Point the free camera at the box of the object and the hand (palm and fingertips),
+        from far enough to hold its bounding sphere; centre and radius follow the hand with a
+        time constant of a few frames, so the picture does not shake."""
+        assert self._camera is not None
+        truth = sim.scene.truth
+        points = [np.asarray(truth.bounds), sim.palm_pose()[0][None, :]]
+        points += [sim.tip_world(k)[None, :] for k in range(len(sim.hand.fingers))]
+        cloud = np.concatenate(points)
+        low, high = cloud.min(axis=0), cloud.max(axis=0)
+        center, radius = 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
+        if self._view is not None:
+            old_center, old_radius = self._view
+            center = 0.75 * old_center + 0.25 * center
+            radius = max(0.9 * old_radius + 0.1 * radius, radius)  # never cut the hand off
+        self._view = (center, radius)
+        fovy = float(sim.model.vis.global_.fovy)
+        self._camera.lookat[:] = center
+        self._camera.distance = 1.1 * radius / np.sin(np.radians(fovy) / 2.0)
 
     def finish(self) -> bytes:
         """Stop, encode and return the video file's bytes."""
@@ -193,6 +232,42 @@ class ExplorationVideo:
         if self._path is not None:
             self._path.unlink(missing_ok=True)
         self._gif.clear()
+
+
+def _follow_camera(model: mujoco.MjModel, name: str) -> mujoco.MjvCamera:
+    """A free camera looking the way the scene camera `name` looks (its azimuth and elevation);
+    :meth:`ExplorationVideo._aim` sets where and from how far."""
+    camera = mujoco.MjvCamera()
+    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+    index = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, name))
+    if index < 0:
+        raise InvalidInputError(f"the scene has no camera {name!r} for the video")
+    quat = model.cam_quat[index]
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, quat)
+    forward = -rot.reshape(3, 3)[:, 2]  # a camera looks along its -z
+    camera.azimuth = float(np.degrees(np.arctan2(forward[1], forward[0])))
+    camera.elevation = float(np.degrees(np.arcsin(np.clip(forward[2], -1.0, 1.0))))
+    return camera
+
+
+def caption(frame: NDArray[np.uint8], text: str) -> NDArray[np.uint8]:
+    """`frame` with `text` in white on a dark band in its top left corner (Pillow)."""
+    from PIL import Image, ImageDraw
+
+    image = Image.fromarray(frame)
+    draw = ImageDraw.Draw(image)
+    size = max(12, frame.shape[0] // 28)
+    try:
+        from PIL import ImageFont
+
+        font = ImageFont.load_default(size=size)
+    except (TypeError, OSError):  # pragma: no cover - an old Pillow
+        font = None
+    box = draw.textbbox((8, 6), text, font=font)
+    draw.rectangle((box[0] - 4, box[1] - 3, box[2] + 4, box[3] + 3), fill=(20, 20, 20))
+    draw.text((8, 6), text, fill=(255, 255, 255), font=font)
+    return np.asarray(image)
 
 
 def pad_strip(frame: NDArray[np.uint8], images: NDArray[np.float64],

@@ -25,7 +25,7 @@ def _red_pixels(frame: np.ndarray) -> int:
 
 @pytest.fixture(scope="module")
 def gif() -> tuple[bytes, int, float]:
-    video = ExplorationVideo(VideoConfig(format="gif", fps=10))  # 320 x 240
+    video = ExplorationVideo(VideoConfig(format="gif", fps=10, speed=1.0))  # 320 x 240
     run = run_exploration(BOX, "patch", count=20, rng=0, video=video)
     return video.finish(), video.frames, run.sim_time
 
@@ -45,6 +45,29 @@ def test_recorded_contacts_appear_in_red(gif) -> None:
     last = np.asarray(image.convert("RGB"))
     # measured: no red pixel before the first contact, 18 once 20 contacts are drawn
     assert _red_pixels(first) == 0 and _red_pixels(last) > 8
+
+
+def test_the_caption_holds_the_count_and_the_time(gif) -> None:
+    data, _, _ = gif
+    image = Image.open(io.BytesIO(data))
+    image.seek(image.n_frames - 1)
+    corner = np.asarray(image.convert("RGB"))[2:24, 2:150].astype(int)
+    dark = np.all(corner < 40, axis=-1).mean()
+    white = np.all(corner > 200, axis=-1).mean()
+    assert dark > 0.3 and white > 0.03  # the dark band and its white letters
+
+
+def test_by_default_the_video_runs_at_twice_real_time_and_follows_the_hand() -> None:
+    config = VideoConfig(format="gif", fps=10, width=160, height=128)
+    assert config.speed == 2.0 and config.follow and config.caption
+    video = ExplorationVideo(config)
+    run = run_exploration(BOX, "patch", count=20, rng=0, video=video)
+    assert run.sim_time * 5 <= video.frames <= run.sim_time * 5 + 40
+    assert video._camera is not None and video._view is not None
+    center, radius = video._view
+    # the view holds the object's box and the hand (a 0.06 m box, a hand of ~0.2 m)
+    assert 0.05 < radius < 0.5 and np.linalg.norm(center - BOX.center) < radius
+    video.finish()
 
 
 def test_mp4_is_streamed_through_ffmpeg(tmp_path) -> None:
