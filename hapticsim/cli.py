@@ -8,6 +8,7 @@ stderr and exit status 2.
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import sys
 from collections.abc import Sequence
@@ -249,9 +250,25 @@ def _fit_inputs(path: str, args: argparse.Namespace) -> tuple[Any, dict]:
 
 
 def _cmd_explore(args: argparse.Namespace) -> int:
+    from hapticsim.fitting.kernels import start_background
+    from hapticsim.fitting.methods import FIT_METHODS
+
+    compiling = None
+    if args.method in FIT_METHODS:  # a fresh installation: compile while the simulator loads
+        compiling = start_background(args.method, stream=io.StringIO() if args.quiet else None)
+    try:
+        summary = _explore_from_args(args)
+    except BaseException:
+        if compiling is not None:
+            compiling.stop()
+        raise
+    return _explore_done(summary)
+
+
+def _explore_from_args(args: argparse.Namespace) -> dict:
     from hapticsim.experiments.explore import explore
 
-    summary = explore(
+    return explore(
         object_name=args.object,
         strategy=args.strategy,
         noise=args.noise,
@@ -269,6 +286,9 @@ def _cmd_explore(args: argparse.Namespace) -> int:
         skin=args.skin,
         taxel_model=args.taxel_model,
     )
+
+
+def _explore_done(summary: dict) -> int:
     if not summary["complete"]:
         sys.stderr.write(
             f"hapticsim explore: warning: gathered {summary['contacts']} of "

@@ -287,6 +287,10 @@ def _explore(
             tactile=_report_images(run) if tactile else None,
             finger_names=[f.name for f in hand_description.fingers],
         )  # fmt: skip
+    except BaseException:
+        if compiling is not None:  # nothing to fit: the workers go too
+            compiling.stop()
+        raise
     finally:
         bar.close()
         if video is not None:

@@ -19,6 +19,7 @@ from hapticsim.geometry._eof_compiled import (
     NP,
     problem_residuals_posed,
     residual_length,
+    vector_fields,
 )
 
 #: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
@@ -267,6 +268,58 @@ def offspring(
 
 
 @njit(**JIT)
+def _after(x: float, y: float) -> bool:
+    """Whether x sorts after y: larger, or NaN against a number (numpy sorts NaN last)."""
+    return x > y or (x != x and y == y)
+
+
+@njit(**JIT)
+def _stable_order(values: np.ndarray) -> np.ndarray:
+    """``np.argsort(values, kind="mergesort")``: a stable insertion sort, NaN last.
+
+    The same permutation (both are stable), written as a loop: numpy's mergesort and fancy
+    indexing cost numba seconds to compile, the loop a fraction of one; populations are small.
+    """
+    n = values.shape[0]
+    order = np.empty(n, np.int64)
+    for i in range(n):
+        order[i] = i
+    for i in range(1, n):
+        k = order[i]
+        j = i - 1
+        while j >= 0 and _after(values[order[j]], values[k]):
+            order[j + 1] = order[j]
+            j -= 1
+        order[j + 1] = k
+    return order
+
+
+@njit(**JIT)
+def _put(
+    genes: np.ndarray, rot: np.ndarray, i: int, src_genes: np.ndarray, src_rot: np.ndarray, j: int
+) -> None:
+    """Row i of genes (P, 13) and rot (P, 3, 3) := row j of the sources."""
+    for k in range(NP):
+        genes[i, k] = src_genes[j, k]
+    for a in range(3):
+        for b in range(3):
+            rot[i, a, b] = src_rot[j, a, b]
+
+
+@njit(**JIT)
+def _gather(
+    genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, order: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``genes[order], rot[order], eof[order]`` (new arrays)."""
+    count = order.shape[0]
+    out_genes, out_rot, out_eof = np.empty((count, NP)), np.empty((count, 3, 3)), np.empty(count)
+    for i in range(count):
+        _put(out_genes, out_rot, i, genes, rot, order[i])
+        out_eof[i] = eof[order[i]]
+    return out_genes, out_rot, out_eof
+
+
+@njit(**JIT)
 def _evaluate(
     problem: tuple, genes: np.ndarray, rot: np.ndarray, eof: np.ndarray, tally: np.ndarray
 ) -> None:
@@ -275,10 +328,8 @@ def _evaluate(
     count, n = genes.shape[0], problem[0].shape[1]
     m = residual_length(problem)
     r = np.empty((count, m))
-    problem_residuals_posed(
-        problem, np.ascontiguousarray(genes[:, 0:3]), np.ascontiguousarray(genes[:, 3:5]),
-        np.ascontiguousarray(genes[:, 5:7]), rot, np.ascontiguousarray(genes[:, 10:13]), r, tally,
-    )  # fmt: skip
+    a, eps, taper, center = vector_fields(genes)
+    problem_residuals_posed(problem, a, eps, taper, rot, center, r, tally)
     for k in range(count):
         s = 0.0
         for i in range(m):
@@ -319,14 +370,17 @@ def ga_run(
         total = min(n, cap)
     genes = np.empty((total, NP))
     rot = np.empty((total, 3, 3))
-    genes[:k] = seeds[:k]
-    rot[:k] = seed_rot[:k]
+    for i in range(k):
+        _put(genes, rot, i, seeds, seed_rot, i)
     if total > k:
         # Fill the generation with mutated copies of random seeds.
         pick = rng.integers(0, k, total - k)
         zero = np.zeros(total - k)
+        parents, parent_rot = np.empty((total - k, NP)), np.empty((total - k, 3, 3))
+        for i in range(total - k):
+            _put(parents, parent_rot, i, seeds, seed_rot, pick[i])
         offspring(
-            rng, seeds[pick], seed_rot[pick], zero, total - k, settings, 1.0, size, lower, upper,
+            rng, parents, parent_rot, zero, total - k, settings, 1.0, size, lower, upper,
             tables, genes[k:], rot[k:],
         )  # fmt: skip
     eof = np.empty(total)
@@ -335,8 +389,7 @@ def ga_run(
     if total > 0:
         _evaluate(problem, genes, rot, eof, tally)
         used = total
-    order = np.argsort(eof, kind="mergesort")[:n]
-    genes, rot, eof = genes[order], rot[order], eof[order]
+    genes, rot, eof = _gather(genes, rot, eof, _stable_order(eof)[:n])
     count = genes.shape[0]
     best = eof[0] if count > 0 else math.inf
     if total > 0:
@@ -388,24 +441,22 @@ def ga_run(
                     if d < near:
                         nearest, near = j, d
                 if kid_eof[c] < eof[nearest]:
-                    genes[nearest] = kids[c]
-                    rot[nearest] = kid_rot[c]
+                    _put(genes, rot, nearest, kids, kid_rot, c)
                     eof[nearest] = kid_eof[c]
         else:
-            genes[elite:] = kids[:children]
-            rot[elite:] = kid_rot[:children]
-            eof[elite:] = kid_eof[:children]
-        order = np.argsort(eof, kind="mergesort")
-        genes, rot, eof = genes[order], rot[order], eof[order]
+            for c in range(children):
+                _put(genes, rot, elite + c, kids, kid_rot, c)
+                eof[elite + c] = kid_eof[c]
+        genes, rot, eof = _gather(genes, rot, eof, _stable_order(eof))
         generations += 1
         stall = 0 if eof[0] < best * (1.0 - 1e-4) else stall + 1
         best = min(best, eof[0])
         if n_hist < hist_evals.shape[0]:
             hist_evals[n_hist], hist_best[n_hist] = used, best
             n_hist += 1
-    out_genes[:count] = genes
-    out_rot[:count] = rot
-    out_eof[:count] = eof
+    for i in range(count):
+        _put(out_genes, out_rot, i, genes, rot, i)
+        out_eof[i] = eof[i]
     return count, generations, used, status, n_hist
 
 

@@ -45,6 +45,8 @@ METHOD_PARTS: dict[str, tuple[str, ...]] = {
 }
 
 _ready: set[str] = set()
+#: The workers this process started last (a second start of the same parts returns them).
+_running: Background | None = None
 
 
 def parts_for(methods: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
@@ -169,6 +171,21 @@ class Background:
                 time.sleep(0.05)
         return time.perf_counter() - start
 
+    def stop(self) -> None:
+        """End the workers that still run (a command that failed before its fit): numba writes
+        each cache file atomically, so a stopped worker leaves nothing half-written."""
+        global _running
+        for proc in self.procs:
+            if proc.poll() is None:
+                proc.terminate()
+        for proc in self.procs:
+            try:
+                proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:  # pragma: no cover - a stuck worker
+                proc.kill()
+        if _running is self:
+            _running = None
+
     def _groups(self) -> list[tuple[str, ...]]:
         return _split(self.parts, len(self.procs))
 
@@ -193,9 +210,12 @@ def start_background(
 ) -> Background | None:
     """On a cold cache, start worker processes compiling the method(s)' parts; None when the
     cache is warm (nothing to do) or the parts are ready in this process already."""
+    global _running
     parts = tuple(p for p in parts_for(methods) if p not in _ready and not is_cached(p))
     if not parts:
         return None
+    if _running is not None and set(parts) <= set(_running.parts):
+        return _running  # started earlier by this process (the command line, before imports)
     n = default_jobs() if jobs is None else max(1, int(jobs))
     groups = _split(parts, n)
     stream = sys.stderr if stream is None else stream
@@ -214,7 +234,8 @@ def start_background(
         )  # fmt: skip
         for group in groups
     ]
-    return Background(parts=tuple(p for g in groups for p in g), procs=procs)
+    _running = Background(parts=tuple(p for g in groups for p in g), procs=procs)
+    return _running
 
 
 def compile_parallel(

@@ -690,13 +690,21 @@ def ml_residuals_posed(
 
 
 @njit(**JIT)
-def _vector_fields(vectors: np.ndarray, rot: np.ndarray) -> tuple:
-    """``(a, eps, taper, rot, center)`` of P parameter vectors (P, 13) as contiguous copies, so
-    the posed kernels are compiled for one array layout only (slices would add a second)."""
-    return (
-        vectors[:, 0:3].copy(), vectors[:, 3:5].copy(), vectors[:, 5:7].copy(), rot,
-        vectors[:, 10:13].copy(),
-    )  # fmt: skip
+def vector_fields(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(a, eps, taper, center)`` of P parameter vectors (P, 13) as contiguous copies (loops:
+    slices would compile the posed kernels for a second array layout, and slice copies cost
+    more to compile)."""
+    count = vectors.shape[0]
+    a, eps, taper, center = (np.empty((count, 3)), np.empty((count, 2)), np.empty((count, 2)),
+                             np.empty((count, 3)))  # fmt: skip
+    for i in range(count):
+        for k in range(3):
+            a[i, k] = vectors[i, k]
+            center[i, k] = vectors[i, 10 + k]
+        for k in range(2):
+            eps[i, k] = vectors[i, 3 + k]
+            taper[i, k] = vectors[i, 5 + k]
+    return a, eps, taper, center
 
 
 @njit(**JIT)
@@ -709,8 +717,9 @@ def ml_residuals_vectors(
     rot = np.empty((count, 3, 3))
     for k in range(count):
         rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
+    a, eps, taper, center = vector_fields(vectors)
     ml_residuals_posed(
-        points, normals, with_normals, *_vector_fields(vectors, rot), settings, free, out, tally,
+        points, normals, with_normals, a, eps, taper, rot, center, settings, free, out, tally,
     )  # fmt: skip
 
 
@@ -818,8 +827,9 @@ def residuals_vectors(
     rot = np.empty((count, 3, 3))
     for k in range(count):
         rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
+    a, eps, taper, center = vector_fields(vectors)
     residuals_posed(
-        points, normals, with_normals, *_vector_fields(vectors, rot), lam, tapered, out, tally,
+        points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally,
     )  # fmt: skip
 
 

@@ -63,3 +63,32 @@ def test_a_fit_reports_its_set_up_apart_and_once() -> None:
     assert first.setup_seconds >= 0.0 and again.setup_seconds == 0.0
     assert again.to_dict()["setup_seconds"] == 0.0
     assert np.array_equal(first.superquadric.to_vector(), again.superquadric.to_vector())
+
+
+def test_stopping_ends_the_workers() -> None:
+    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    background = kernels.Background(parts=("eof-ga",), procs=[proc])
+    background.stop()
+    assert proc.poll() is not None
+
+
+def test_a_second_start_of_running_parts_returns_the_same_workers(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))  # nothing marked: cold
+    monkeypatch.setattr(kernels, "_ready", set())
+    started: list[list[str]] = []
+
+    class _Proc:
+        def __init__(self, argv, **kwargs) -> None:  # noqa: ANN001, ANN003
+            started.append(argv)
+
+        def poll(self) -> int:
+            return 0
+
+    monkeypatch.setattr(kernels.subprocess, "Popen", _Proc)
+    monkeypatch.setattr(kernels, "_running", None)
+    first = kernels.start_background("nH", jobs=2, stream=io.StringIO())
+    again = kernels.start_background("nH", jobs=2, stream=io.StringIO())
+    assert first is again and len(started) == 2
+    assert kernels.start_background("nML", jobs=2, stream=io.StringIO()) is not first
