@@ -189,6 +189,7 @@ def _explore(
     from hapticsim.experiments.explore_report import (
         exploration_figure_png,
         png_bytes,
+        prepare_figures,
     )
     from hapticsim.fitting import fit
     from hapticsim.fitting.kernels import start_background
@@ -253,6 +254,7 @@ def _explore(
         )
         if compiling is not None:
             bar.set_postfix_str("compiling the fitter's kernels (once per installation)")
+            prepare_figures()  # meanwhile: this process is idle
             compiling.wait(say=lambda line: bar.set_postfix_str(line.removeprefix("hapticsim: ")))
         bar.set_postfix_str("fitting")
         # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of

@@ -63,6 +63,19 @@ def _half_width(truth: Solid) -> float:
     return max(float(np.max(np.ptp(truth.bounds, axis=0))) * 500.0 * 1.15, 10.0)
 
 
+def prepare_figures() -> None:
+    """Import matplotlib's 3-D axes and load its fonts (about a second, once per process): what
+    ``explore`` does while it waits for the fitter's kernels to compile."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(1, 1))
+    fig.add_subplot(projection="3d").set_title("x")
+    fig.savefig(io.BytesIO(), format="png", dpi=10)
+
+
 def exploration_figure_png(
     truth: Solid,
     estimate: Solid | None,
@@ -198,4 +211,4 @@ def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
     return atomic_write(path, lambda fh: fh.write(data), "wb")
 
 
-__all__ = ["exploration_figure_png", "png_bytes", "write_bytes_atomic"]
+__all__ = ["exploration_figure_png", "png_bytes", "prepare_figures", "write_bytes_atomic"]
