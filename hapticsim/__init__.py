@@ -44,8 +44,10 @@ def __getattr__(name: str) -> Any:
 def _register_envs() -> None:
     """Register the Gymnasium environments (Gymnasium 1.4 reads no entry points)."""
     try:
+        import gymnasium  # noqa: F401 - registering needs it; the rest of hapticsim does not
+
         from hapticsim.envs.registration import register_envs
-    except ImportError:  # envs not built yet or gymnasium missing
+    except ImportError:  # gymnasium missing: hapticsim works, without its environments
         return
     register_envs()
 
