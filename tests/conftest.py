@@ -3,7 +3,7 @@
 Without this, the first test that fits compiles the fitter's kernels in its own process, one
 after another (about a minute on 2 cores), and pytest shows nothing meanwhile. Here a cold cache
 is filled before the first test by one worker process per core
-(:func:`hapticsim.fitting.kernels.compile_parallel`), with a line every 10 s; a warm cache costs
+(:func:`hapticsim.fitting.kernels.start_background`), with a line every 10 s; a warm cache costs
 nothing (the markers say so without loading anything).
 """
 

@@ -8,7 +8,7 @@ process, so that :func:`hapticsim.fit` can time the fit alone and report the set
 (``FitResult.setup_seconds``).
 
 On a cold cache the work splits into independent *parts* (the genetic algorithm and the least
-squares, for the paper's EOF and the ML residuals), which :func:`compile_parallel` compiles in
+squares, for the paper's EOF and the ML residuals), which :func:`start_background` compiles in
 worker processes at once, one per core, each writing numba's cache; the calling process then
 only loads. :func:`start_background` starts those workers without waiting, so a command can
 simulate while they compile (``hapticsim explore``), and :meth:`Background.wait` shows their
@@ -139,9 +139,14 @@ def default_jobs() -> int:
 class Background:
     """Worker processes compiling parts into numba's cache (from :func:`start_background`)."""
 
-    parts: tuple[str, ...]
+    groups: list[tuple[str, ...]]
     procs: list[subprocess.Popen] = field(default_factory=list)
     started: float = field(default_factory=time.perf_counter)
+
+    @property
+    def parts(self) -> tuple[str, ...]:
+        """Every part the workers compile."""
+        return tuple(p for g in self.groups for p in g)
 
     def wait(self, stream: TextIO | None = None, say: Callable[[str], None] | None = None) -> float:
         """Wait for the workers, printing a line per finished part on `stream` (default
@@ -151,7 +156,7 @@ class Background:
         stream = sys.stderr if stream is None else stream
         tell = (lambda line: _say(stream, line)) if say is None else say
         start = time.perf_counter()
-        pending = list(zip(self.procs, self._groups(), strict=True))
+        pending = list(zip(self.procs, self.groups, strict=True))
         last = start
         while pending:
             for proc, group in list(pending):
@@ -185,9 +190,6 @@ class Background:
                 proc.kill()
         if _running is self:
             _running = None
-
-    def _groups(self) -> list[tuple[str, ...]]:
-        return _split(self.parts, len(self.procs))
 
 
 def _say(stream: TextIO, line: str) -> None:
@@ -234,23 +236,8 @@ def start_background(
         )  # fmt: skip
         for group in groups
     ]
-    _running = Background(parts=tuple(p for g in groups for p in g), procs=procs)
+    _running = Background(groups=groups, procs=procs)
     return _running
-
-
-def compile_parallel(
-    methods: str | tuple[str, ...] | list[str] = "nH",
-    jobs: int | None = None,
-    stream: TextIO | None = None,
-) -> float:
-    """Compile the method(s)' kernels in parallel workers when the cache is cold, then load
-    them here (:func:`prepare`); returns the seconds in all."""
-    start = time.perf_counter()
-    background = start_background(methods, jobs, stream)
-    if background is not None:
-        background.wait(stream)
-    prepare(methods)
-    return time.perf_counter() - start
 
 
 def _main(argv: list[str]) -> int:
@@ -272,7 +259,6 @@ __all__ = [
     "METHOD_PARTS",
     "PARTS",
     "Background",
-    "compile_parallel",
     "default_jobs",
     "is_cached",
     "parts_for",

@@ -35,13 +35,15 @@ def test_a_warm_cache_starts_no_worker(tmp_path: Path, monkeypatch: pytest.Monke
 
 def test_the_work_is_dealt_to_the_workers() -> None:
     assert kernels._split(kernels.PARTS, 2) == [("eof-lm", "ml-lm"), ("eof-ga", "ml-ga")]
+    groups = kernels._split(kernels.PARTS, 2)
+    assert kernels.Background(groups=groups).parts == ("eof-lm", "ml-lm", "eof-ga", "ml-ga")
     assert kernels._split(("eof-lm",), 4) == [("eof-lm",)]
 
 
 def test_a_failed_worker_is_reported_and_waiting_ends() -> None:
     proc = subprocess.Popen([sys.executable, "-c", "raise SystemExit(3)"])
     lines: list[str] = []
-    kernels.Background(parts=("eof-ga",), procs=[proc]).wait(say=lines.append)
+    kernels.Background(groups=[("eof-ga",)], procs=[proc]).wait(say=lines.append)
     assert len(lines) == 1 and "eof-ga failed (exit 3)" in lines[0]
 
 
@@ -67,7 +69,7 @@ def test_a_fit_reports_its_set_up_apart_and_once() -> None:
 
 def test_stopping_ends_the_workers() -> None:
     proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
-    background = kernels.Background(parts=("eof-ga",), procs=[proc])
+    background = kernels.Background(groups=[("eof-ga",)], procs=[proc])
     background.stop()
     assert proc.poll() is not None
 
