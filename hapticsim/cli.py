@@ -589,9 +589,70 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_reproduce)
 
+    p = sub.add_parser(
+        "view",
+        help="a 3-D viewer of an explore run in the browser (pip install 'hapticsim[viewer]')",
+        description="Serve a viewer of one explore run (truth, contacts and normals by finger, "
+        "the estimate after every touch with its epsilon, the hand, taxel images) with a slider "
+        "over the touches, or export it as one HTML page that opens offline.",
+    )
+    p.add_argument("run_dir", metavar="RUN_DIR", help="an explore run's directory (--out)")
+    p.add_argument("--port", type=int, default=8080, help="port to serve on (default 8080)")
+    p.add_argument(
+        "--host", default="127.0.0.1",
+        help="address to bind (default 127.0.0.1, this machine only; 0.0.0.0 for all)",
+    )  # fmt: skip
+    p.add_argument(
+        "--export", default=None, metavar="FILE.html",
+        help="write one self-contained page replaying the run instead of serving it",
+    )  # fmt: skip
+    p.add_argument(
+        "--estimate-every", type=int, default=1, metavar="N",
+        help="refit the estimate every N touches (default 1: after every touch)",
+    )  # fmt: skip
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(func=_cmd_view)
+
     _add_suite_parser(sub)
     _add_policies_parser(sub)
     return parser
+
+
+def _cmd_view(args: argparse.Namespace) -> int:
+    from hapticsim._files import check_output_path
+    from hapticsim.viewer.run import load_run, replay_states
+    from hapticsim.viewer.serve import export_html, require_viser, serve
+
+    if not 0 < args.port < 65536:
+        raise InvalidInputError(f"--port must be in 1..65535, got {args.port}")
+    run = load_run(args.run_dir)  # names the run's missing files, with or without viser
+    require_viser()  # the extra is installed, before the fits
+    if args.export:
+        check_output_path(args.export, (".html", ".htm"))
+    states = replay_states(run, args.estimate_every, progress=None if args.quiet else _fits_bar())
+    if args.export:
+        path = export_html(run, states, args.export)
+        _print_json({"run": str(run.path), "export": str(path), "states": len(states)})
+        return 0
+    serve(run, states, host=args.host, port=args.port)
+    return 0
+
+
+def _fits_bar() -> Any:
+    """A progress callback drawing the replay's fits as a bar on stderr."""
+    from tqdm import tqdm
+
+    bar: list[Any] = []
+
+    def report(done: int, total: int) -> None:
+        if not bar:
+            bar.append(tqdm(total=total, desc="estimates after each touch", unit="fit",
+                            file=sys.stderr, leave=False))  # fmt: skip
+        bar[0].update(done - bar[0].n)
+        if done >= total:
+            bar[0].close()
+
+    return report
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -30,6 +30,8 @@ ALLOWED: dict[str, set[str]] = {
     "envs": {"geometry", "data", "metrics", "fitting", "tactile", "sim"},
     "experiments": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
     "suites": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "experiments"},
+    # reads run directories (plain files): no simulator, no environments
+    "viewer": {"geometry", "data", "metrics", "fitting"},
 }
 
 

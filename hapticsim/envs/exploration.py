@@ -48,6 +48,7 @@ def run_policy_exploration(
     progress: Callable[[int], None] | None = None,
     video: Any = None,
     max_touches: int | None = None,
+    hand_trace: Any = None,
 ) -> Any:
     """Explore `truth` with an environment policy until `count` contacts (module docstring).
 
@@ -60,6 +61,8 @@ def run_policy_exploration(
         progress: called with the number of contacts after every touch.
         video: an :class:`~hapticsim.sim.video.ExplorationVideo` taking frames, or None.
         max_touches: touches allowed (default `count`: at least one contact each).
+        hand_trace: a :class:`~hapticsim.sim.hand_trace.HandTrace` keeping the hand's poses, or
+            None.
 
     Returns:
         the :class:`~hapticsim.sim.session.Exploration` (its patterns are the touches' probes
@@ -102,6 +105,8 @@ def run_policy_exploration(
     trace.attach(explorer.sim)
     if video is not None:
         video.attach(explorer.sim, explorer.recorder)
+    if hand_trace is not None:
+        hand_trace.attach(explorer.sim, explorer.recorder)
     recorder, idle, touches, stop = explorer.recorder, 0, 0, None
     while len(recorder) < count:
         if touches >= budget:

@@ -28,7 +28,9 @@ output directory:
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
   estimate, contacts with normals) and, with ``render=True``, ``scene.png`` (MuJoCo's
-  offscreen renderer, ``MUJOCO_GL=egl``); with ``video="mp4"`` or ``"gif"``,
+  offscreen renderer, ``MUJOCO_GL=egl``); ``hand.npz``: the hand's geoms and their poses at
+  every touch (:mod:`hapticsim.sim.hand_trace`, for ``hapticsim view``); with ``video="mp4"``
+  or ``"gif"``,
   ``exploration.mp4``/``.gif`` (:mod:`hapticsim.sim.video`).
 
 Everything is computed before the first file is written, and every file is written to a
@@ -199,6 +201,7 @@ def _explore(
     from hapticsim.metrics import score, theta
     from hapticsim.sim.accuracy import contact_accuracy
     from hapticsim.sim.free_space import near_contacts
+    from hapticsim.sim.hand_trace import HandTrace
     from hapticsim.sim.session import run_exploration
     from hapticsim.sim.video import ExplorationVideo
 
@@ -214,6 +217,7 @@ def _explore(
                disable=not progress, leave=False)  # fmt: skip
     picture: dict[str, bytes] = {}
     video = None if video_config is None else ExplorationVideo(video_config)
+    hand_trace = HandTrace()  # the hand at every touch: hand.npz, for `hapticsim view`
 
     def on_progress(n: int) -> None:
         bar.update(n - bar.n)
@@ -229,11 +233,12 @@ def _explore(
         try:
             if is_policy_strategy(strategy):  # an environment policy chooses every touch
                 run = run_policy_exploration(truth, strategy, count, sim_rng, scene_config,
-                                             progress=on_progress, video=video)  # fmt: skip
+                                             progress=on_progress, video=video,
+                                             hand_trace=hand_trace)  # fmt: skip
             else:
                 run = run_exploration(truth, strategy, count, sim_rng, scene_config=scene_config,
                                       progress=on_progress, on_pattern_end=on_pattern_end,
-                                      video=video)  # fmt: skip
+                                      video=video, hand_trace=hand_trace)  # fmt: skip
         except SimulationError as exc:
             raise SimulationError(
                 f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
@@ -341,9 +346,10 @@ def _explore(
     extra[FREE_SPACE_KEY] = free_space  # fingertip centres: free space for nML
     extra["sensing"] = np.array(scene_config.sensing)
     tactile_file = _tactile_file(run, scene_config.skin) if tactile else None
+    hand_file = _npz_bytes(hand_trace.arrays())
     with OutputSet():  # all files or none, even on Ctrl-C
         files = _write_outputs(out, points, normals, extra, truth_file, result, metrics,
-                               report, picture, video_config, tactile_file)  # fmt: skip
+                               report, picture, video_config, tactile_file, hand_file)  # fmt: skip
     return {
         "out_dir": str(out),
         "files": {k: str(v) for k, v in files.items()},
@@ -387,9 +393,17 @@ def _tactile_summary(run: Any) -> dict[str, Any]:
     }  # fmt: skip
 
 
+def _npz_bytes(arrays: dict[str, Any]) -> bytes:
+    """Arrays as the bytes of a compressed ``.npz`` file."""
+    import io
+
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)
+    return buf.getvalue()
+
+
 def _tactile_file(run: Any, skin: Any) -> bytes:
     """The compressed ``tactile.npz`` of a run (module docstring)."""
-    import io
     import json
 
     tactile = run.explorer.sim.tactile
@@ -401,9 +415,7 @@ def _tactile_file(run: Any, skin: Any) -> bytes:
     arrays["taxel_area"] = np.stack([lay.taxels[2] for lay in layouts])
     arrays["carrier"] = np.array([p.carrier for p in tactile.pads])
     arrays["skin"] = np.array(json.dumps(skin.to_dict()))
-    buf = io.BytesIO()
-    np.savez_compressed(buf, **arrays)
-    return buf.getvalue()
+    return _npz_bytes(arrays)
 
 
 def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
@@ -420,7 +432,7 @@ def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
 def _write_outputs(
     out: Path, points: Any, normals: Any, extra: dict[str, Any], truth_file: tuple[str, bytes],
     result: Any, metrics: dict[str, Any], report: bytes, picture: dict[str, bytes],
-    video_config: Any, tactile_file: bytes | None = None,
+    video_config: Any, tactile_file: bytes | None = None, hand_file: bytes | None = None,
 ) -> dict[str, Path]:  # fmt: skip
     """Write the run's files in `out`; returns them by kind."""
     from hapticsim.data.io import Contacts, write_contacts, write_json
@@ -435,6 +447,8 @@ def _write_outputs(
     }
     if tactile_file is not None:
         files["tactile"] = write_bytes_atomic(out / "tactile.npz", tactile_file)
+    if hand_file is not None:
+        files["hand"] = write_bytes_atomic(out / "hand.npz", hand_file)
     if "scene" in picture:
         files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
     if "video" in picture:

@@ -20,6 +20,7 @@ from hapticsim.errors import SimulationError
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
 from hapticsim.sim.free_space import FreeSpaceTrace
+from hapticsim.sim.hand_trace import HandTrace
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import RoughObject, vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
@@ -98,6 +99,7 @@ def run_exploration(
     on_pattern_end: Callable[[Explorer], None] | None = None,
     rough: RoughObject | None = None,
     video: ExplorationVideo | None = None,
+    hand_trace: HandTrace | None = None,
 ) -> Exploration:
     """Explore an object with the hand and return the recorded (clean) contacts.
 
@@ -114,6 +116,8 @@ def run_exploration(
             :func:`~hapticsim.sim.rough.vision_estimate`, drawn from `rng`).
         video: takes frames of the run (:class:`~hapticsim.sim.video.ExplorationVideo`); the
             caller calls its ``finish``. Frames change nothing in the simulation.
+        hand_trace: keeps the hand's pose at every new contact
+            (:class:`~hapticsim.sim.hand_trace.HandTrace`, a run's ``hand.npz``); changes nothing.
 
     Returns:
         The exploration.
@@ -139,6 +143,8 @@ def run_exploration(
                         tactile_rng=tactile_rng)  # fmt: skip
     if video is not None:
         video.attach(explorer.sim, recorder)
+    if hand_trace is not None:
+        hand_trace.attach(explorer.sim, recorder)
     trace = FreeSpaceTrace()  # fingertip centres: free space for nML (changes no physics)
     trace.attach(explorer.sim)
     run_strategy(explorer, count, strategy_rng)

@@ -31,7 +31,7 @@ def mesh_run(tmp_path_factory) -> dict:
 
 def test_a_mesh_run_writes_truth_stl_in_the_world(mesh_run) -> None:
     files = mesh_run["files"]
-    assert set(files) == {"contacts", "truth", "fit", "metrics", "report"}
+    assert set(files) == {"contacts", "truth", "fit", "metrics", "report", "hand"}
     assert files["truth"].endswith("truth.stl")
     written = trimesh.load(files["truth"], force="mesh")
     # file coordinates kept, then scaled and placed: centroid at (0.005, 0, 0.01) m

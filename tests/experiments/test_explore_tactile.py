@@ -22,7 +22,7 @@ def summary(tmp_path_factory) -> dict:  # noqa: ANN001
 
 def test_tactile_explore_writes_tactile_npz_beside_the_contacts(summary) -> None:  # noqa: ANN001
     files = summary["files"]
-    assert set(files) == {"contacts", "truth", "fit", "metrics", "report", "tactile"}
+    assert set(files) == {"contacts", "truth", "fit", "metrics", "report", "tactile", "hand"}
     with np.load(files["tactile"]) as t:
         assert t["images"].shape == (30, 4, 31, 31) and t["images"].dtype == np.float32
         assert t["taxel_position"].shape == (4, 31, 31, 3) and t["finger"].shape == (30,)

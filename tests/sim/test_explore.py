@@ -25,7 +25,7 @@ def summary(tmp_path_factory) -> dict:
 
 def test_explore_writes_every_file(summary) -> None:
     files = summary["files"]
-    assert set(files) == {"contacts", "truth", "fit", "metrics", "report"}
+    assert set(files) == {"contacts", "truth", "fit", "metrics", "report", "hand"}
     for path in files.values():
         assert open(path, "rb").read(8)  # non-empty
     assert open(files["report"], "rb").read(8) == b"\x89PNG\r\n\x1a\n"

@@ -1,0 +1,185 @@
+"""The viewer in a real headless browser: Debian's Chromium driven by Playwright.
+
+Skipped where viser, Playwright or Chromium is missing (``.ci/run`` installs all three: the
+``viewer`` and ``browser`` extras and ``apt-get install chromium``).
+"""
+
+from __future__ import annotations
+
+import io
+import shutil
+import socket
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from hapticsim.viewer import export_html, load_run, replay_states, serve
+from hapticsim.viewer.scene import FINGER_RGB
+
+pytest.importorskip("viser")
+sync_api = pytest.importorskip("playwright.sync_api")
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+# ~15 s each (software WebGL): behind the slow marker, which CI runs after the default tests
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="no Chromium (apt-get install chromium)"),
+    pytest.mark.slow,
+]
+
+#: Chromium's flags on a machine without a display, a GPU or a network.
+FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]  # fmt: skip
+VIEWPORT = {"width": 1280, "height": 800}
+#: Console messages a software-rendered WebGL page may print that are not the page's errors.
+BENIGN = ("GPU stall due to ReadPixels", "Automatic fallback to software WebGL")
+
+
+@pytest.fixture(scope="module")
+def browser() -> Any:
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def replay(run_dir: Path) -> tuple[Any, list[Any]]:
+    data = load_run(run_dir)
+    return data, replay_states(data, estimate_every=10)
+
+
+def _open(browser: Any, url: str) -> tuple[Any, list[str], list[str]]:
+    """A page at `url`, with its console errors and the requests that left the machine."""
+    page = browser.new_page(viewport=VIEWPORT)
+    errors: list[str] = []
+    outside: list[str] = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" and not any(
+        b in m.text for b in BENIGN) else None)  # fmt: skip
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: outside.append(r.url) if not r.url.startswith(
+        ("file:", "data:", "blob:", "http://127.0.0.1", "http://localhost", "ws://")) else None)
+    page.goto(url)
+    return page, errors, outside
+
+
+def _pixels(page: Any) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB"), dtype=int)
+
+
+def _contact_pixels(img: np.ndarray, tolerance: int = 24) -> int:
+    """Pixels within `tolerance` of a finger's colour (the contacts are drawn flat)."""
+    return int(sum(
+        (np.abs(img - np.array(rgb)).max(axis=2) <= tolerance).sum() for rgb in FINGER_RGB[:4]
+    ))  # fmt: skip
+
+
+def _status(page: Any) -> str:
+    """The label naming the state drawn (through viser's scene-tree test hook)."""
+    return page.evaluate(
+        "() => { const n = window.__viserSceneTree.getState()['/status'];"
+        " return n ? n.message.props.text : ''; }"
+    )
+
+
+def _nodes(page: Any) -> list[str]:
+    return page.evaluate("() => Object.keys(window.__viserSceneTree.getState())")
+
+
+def _drawn(img: np.ndarray) -> float:
+    """Fraction of the picture that is not the blank page's white."""
+    return float((np.abs(img - 255).max(axis=2) > 12).mean())
+
+
+def test_the_exported_page_opens_offline_and_replays_every_touch(browser, replay, tmp_path) -> None:  # noqa: ANN001, E501
+    data, states = replay
+    page_file = export_html(data, states, tmp_path / "run.html")
+    assert page_file.stat().st_size < 5_000_000
+    start = time.perf_counter()
+    page, errors, outside = _open(browser, page_file.as_uri())
+    page.wait_for_selector("canvas", timeout=5000)
+    page.wait_for_function("document.querySelector('.mantine-Slider-root') !== null",
+                           timeout=5000)  # fmt: skip
+    opened = time.perf_counter() - start
+    assert opened < 5.0, f"the page took {opened:.1f} s to draw"  # measured 0.9-1.0 s
+    page.wait_for_timeout(1500)
+    # pause the replay, then look at the first touches and at the last
+    page.locator("button").filter(has=page.locator("svg")).nth(1).click()
+    bar = page.locator(".mantine-Slider-root").bounding_box()
+    y = bar["y"] + bar["height"] / 2
+    page.mouse.click(bar["x"] + 0.03 * bar["width"], y)
+    page.wait_for_timeout(1500)
+    early = _pixels(page)
+    page.mouse.click(bar["x"] + bar["width"] - 2, y)
+    page.wait_for_timeout(1500)
+    late = _pixels(page)
+    blank = np.full_like(late, 255)
+    assert _drawn(late) > 0.03 and _drawn(blank) == 0.0  # the object, the hand, the contacts
+    assert _contact_pixels(late) > 2 * max(_contact_pixels(early), 10), "contacts accumulate"
+    assert np.abs(late - early).max(axis=2).mean() > 1.0, "the slider changes what is drawn"
+    last = len(states) - 1
+    assert _status(page).startswith(f"touch {last} of {last}: {len(data.points)} contacts")
+    # one state per touch, SECONDS_PER_TOUCH apart: the timeline's length says how many
+    thumb = page.locator("[role=slider]").first
+    assert float(thumb.get_attribute("aria-valuemax")) == pytest.approx(0.2 * len(states))
+    nodes = _nodes(page)
+    assert {"/truth/part0", "/estimate/part0", "/hand/geom000", "/status"} <= set(nodes)
+    assert not errors, errors
+    assert not outside, f"the page fetched {outside}"
+    page.close()
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay) -> None:  # noqa: ANN001
+    data, states = replay
+    port, stop, urls = _free_port(), threading.Event(), []
+    thread = threading.Thread(target=serve, args=(data, states), daemon=True,
+                              kwargs={"port": port, "stop": stop, "ready": urls.append})
+    thread.start()
+    deadline = time.monotonic() + 20
+    while not urls and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert urls == [f"http://localhost:{port}"]
+    try:
+        page, errors, outside = _open(browser, urls[0])
+        page.wait_for_selector("canvas", timeout=10000)
+        last = len(states) - 1
+        page.wait_for_function(
+            "t => { const n = window.__viserSceneTree.getState()['/status'];"
+            " return n && n.message.props.text.startsWith(t); }",
+            arg=f"touch {last} of {last}:", timeout=10000,
+        )  # fmt: skip
+        page.wait_for_timeout(1000)
+        last = _pixels(page)
+        thumb = page.locator("[role=slider]").first
+        thumb.focus()
+        page.keyboard.press("Home")  # the touch slider to 0: no contacts yet
+        page.wait_for_function(
+            "() => window.__viserSceneTree.getState()['/status'].message.props.text"
+            ".startsWith('touch 0 of')", timeout=10000,
+        )  # fmt: skip
+        page.wait_for_timeout(1000)
+        first = _pixels(page)
+        assert _contact_pixels(last) > 2 * max(_contact_pixels(first), 10)
+        assert page.get_by_label("hand").count() + page.get_by_text("hand").count() >= 1
+        assert not errors, errors
+        assert not outside, f"the page fetched {outside}"
+        page.close()
+    finally:
+        stop.set()
+        thread.join(timeout=10)
+    assert not thread.is_alive(), "the server did not stop"
+    with socket.socket() as s:  # no one listens on the port any more (TIME_WAIT may linger)
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        s.bind(("127.0.0.1", port))

@@ -1,0 +1,84 @@
+"""The run a viewer reads: hand.npz from explore, load_run's checks, the replay's states."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hapticsim.errors import InvalidInputError
+from hapticsim.viewer.run import MIN_FIT_CONTACTS, load_run, missing_files, replay_states
+from tests.test_cli_core import assert_bad_input, run
+from tests.viewer.conftest import COUNT
+
+
+def test_explore_writes_the_hand_at_every_touch(run_dir: Path) -> None:
+    with np.load(run_dir / "hand.npz") as h:
+        contacts, position, wxyz = h["contacts"], h["position"], h["wxyz"]
+        geoms = len(h["rgba"])
+        assert geoms >= 10 and len(h["vertex_start"]) == geoms + 1  # palm, links, tips
+        assert h["vertex_start"][-1] == len(h["vertices"])
+        assert h["face_start"][-1] == len(h["faces"])
+        assert list(h["finger_names"]) == ["thumb", "index", "middle", "ring"]
+    # state 0 before the first contact, then one state per touch that recorded contacts
+    assert contacts[0] == 0 and np.all(np.diff(contacts) > 0) and contacts[-1] == COUNT
+    assert position.shape == (len(contacts), geoms, 3) and wxyz.shape == (len(contacts), geoms, 4)
+    np.testing.assert_allclose(np.linalg.norm(wxyz, axis=2), 1.0, atol=1e-5)
+    # the hand moves between touches (the palm's geom at least)
+    assert np.ptp(position[:, 0], axis=0).max() > 0.01
+
+
+def test_replay_has_one_state_per_touch_and_ends_on_the_runs_estimate(run_dir: Path) -> None:
+    data = load_run(run_dir)
+    states = replay_states(data, estimate_every=10)
+    with np.load(run_dir / "hand.npz") as h:
+        assert [s.contacts for s in states] == list(h["contacts"])
+    assert all(s.estimate is None for s in states if s.contacts < MIN_FIT_CONTACTS)
+    assert states[-1].estimate is data.estimate
+    assert states[-1].epsilon == pytest.approx(data.metrics["epsilon"])
+    later = [s.epsilon for s in states if s.epsilon is not None]
+    assert later and all(0.0 <= e < 2.0 for e in later)
+    # refits every 10th state that has 13 contacts: fewer distinct estimates than states
+    assert 1 < len({id(s.estimate) for s in states if s.estimate is not None}) < len(states)
+
+
+def test_a_run_without_hand_npz_replays_one_state_per_contact(run_dir: Path, tmp_path: Path) -> None:  # noqa: E501
+    old = tmp_path / "old"
+    shutil.copytree(run_dir, old)
+    (old / "hand.npz").unlink()
+    data = load_run(old)
+    assert data.hand is None and data.finger_names[0] == "finger 0"
+    states = replay_states(data, estimate_every=200)
+    assert [s.contacts for s in states] == list(range(COUNT + 1))
+    assert states[0].hand_position is None
+
+
+def test_missing_files_are_all_named(run_dir: Path, tmp_path: Path) -> None:
+    half = tmp_path / "half"
+    half.mkdir()
+    shutil.copy(run_dir / "fit.json", half / "fit.json")
+    assert missing_files(half) == ["contacts.npz", "metrics.json", "truth.json or truth.stl"]
+    with pytest.raises(InvalidInputError, match="missing contacts.npz, metrics.json, truth"):
+        load_run(half)
+    with pytest.raises(InvalidInputError, match="not a run directory"):
+        load_run(tmp_path / "nowhere")
+    with pytest.raises(InvalidInputError, match="estimate_every"):
+        replay_states(load_run(run_dir), estimate_every=0)
+
+
+def test_view_command_names_missing_files_with_exit_2(capsys, run_dir: Path, tmp_path: Path) -> None:  # noqa: ANN001, E501
+    half = tmp_path / "half"
+    half.mkdir()
+    shutil.copy(run_dir / "contacts.npz", half / "contacts.npz")
+    cases = [
+        ([str(half)], "missing fit.json, metrics.json, truth.json or truth.stl"),
+        ([str(tmp_path / "none")], "not a run directory"),
+        ([str(run_dir), "--port", "0"], "--port"),
+        ([str(run_dir), "--export", str(tmp_path / "x.txt")], ".html"),
+        ([str(run_dir), "--export", str(tmp_path / "no" / "x.html")], "does not exist"),
+    ]
+    for argv, match in cases:
+        assert_bad_input(*run(capsys, "view", *argv), "view", match)
+    assert not (tmp_path / "x.txt").exists()
