@@ -352,6 +352,19 @@ def _cmd_suite_compare(args: argparse.Namespace) -> int:
     return comparison.exit_code
 
 
+def _cmd_suite_report(args: argparse.Namespace) -> int:
+    from hapticsim.suites.html_report import write_report
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InvalidInputError(f"--out {out} exists and is not a directory")
+    if not out.parent.is_dir():
+        raise InvalidInputError(f"cannot write {out}: directory {out.parent} does not exist")
+    index = write_report(args.results, out, args.baseline, args.tolerance, args.alpha)
+    _print_json({"report": str(index), "results": args.results, "baseline": args.baseline})
+    return 0
+
+
 def _add_suite_parser(sub: Any) -> None:
     """``hapticsim suite list | run | compare`` (regression suites, SPEC §6)."""
     suite = sub.add_parser(
@@ -391,6 +404,18 @@ def _add_suite_parser(sub: Any) -> None:
     p.add_argument("--changed", action="store_true", help="list only groups that changed")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     p.set_defaults(func=_cmd_suite_compare)
+
+    p = cmds.add_parser(
+        "report", help="an HTML page of a results file (against a baseline): tables and plots"
+    )
+    p.add_argument("results", help="results JSON (hapticsim suite run --out)")
+    p.add_argument("--baseline", default=None, help="results JSON to compare against")
+    p.add_argument("--out", required=True, help="directory for index.html and its pictures")
+    p.add_argument(
+        "--tolerance", type=float, default=None, help="harmless rise of a group's mean epsilon"
+    )
+    p.add_argument("--alpha", type=float, default=None, help="level of the paired Wilcoxon test")
+    p.set_defaults(func=_cmd_suite_report)
 
 
 def _cmd_policies_evaluate(args: argparse.Namespace) -> int:

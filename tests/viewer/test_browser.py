@@ -183,3 +183,17 @@ def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay)
     with socket.socket() as s:  # no one listens on the port any more (TIME_WAIT may linger)
         s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         s.bind(("127.0.0.1", port))
+
+
+def test_the_suite_report_page_loads_its_pictures(browser, tmp_path: Path) -> None:  # noqa: ANN001
+    from hapticsim.suites.html_report import write_report
+    from tests.suites.test_html_report import _two_groups
+
+    index = write_report(_two_groups(), tmp_path / "rep", baseline=_two_groups())
+    page, errors, outside = _open(browser, index.as_uri())
+    page.wait_for_load_state("load")
+    widths = page.evaluate("() => Array.from(document.images).map(i => i.naturalWidth)")
+    assert len(widths) == 2 and min(widths) > 300
+    assert page.get_by_text("no regression").count() == 1
+    assert not errors and not outside
+    page.close()
