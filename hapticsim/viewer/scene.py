@@ -214,7 +214,7 @@ class RunScene:
     def aim(self, camera: Any) -> None:
         """Point an (initial) camera at the object from the front, above, the hand in view."""
         camera.look_at = tuple(self.center)
-        camera.position = tuple(self.center + np.array([2.2, -3.0, 1.8]) * self.extent)
+        camera.position = tuple(self.center + np.array([1.5, -2.1, 1.4]) * self.extent)
         camera.near = 0.01 * self.extent
 
 
