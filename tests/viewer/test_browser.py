@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from hapticsim.geometry import SuperquadricUnion
 from hapticsim.viewer import export_html, load_run, replay_states, serve
 from hapticsim.viewer.scene import FINGER_RGB
 
@@ -80,6 +81,16 @@ def _contact_pixels(img: np.ndarray, tolerance: int = 24) -> int:
     ))  # fmt: skip
 
 
+def _settled(page: Any, check: Any, timeout: float = 15.0) -> np.ndarray:
+    """A screenshot once `check(picture)` holds (software WebGL may draw a few frames late)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        img = _pixels(page)
+        if check(img) or time.monotonic() > deadline:
+            return img
+        page.wait_for_timeout(300)
+
+
 def _status(page: Any) -> str:
     """The label naming the state drawn (through viser's scene-tree test hook)."""
     return page.evaluate(
@@ -116,9 +127,8 @@ def test_the_exported_page_opens_offline_and_replays_every_touch(browser, replay
     page.mouse.click(bar["x"] + 0.03 * bar["width"], y)
     page.wait_for_timeout(1500)
     early = _pixels(page)
-    page.mouse.click(bar["x"] + bar["width"] - 2, y)
-    page.wait_for_timeout(1500)
-    late = _pixels(page)
+    page.mouse.click(bar["x"] + 0.995 * bar["width"], y)
+    late = _settled(page, lambda img: _contact_pixels(img) > 2000)
     blank = np.full_like(late, 255)
     assert _drawn(late) > 0.03 and _drawn(blank) == 0.0  # the object, the hand, the contacts
     assert _contact_pixels(late) > 2 * max(_contact_pixels(early), 10), "contacts accumulate"
@@ -160,8 +170,7 @@ def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay)
             " return n && n.message.props.text.startsWith(t); }",
             arg=f"touch {last} of {last}:", timeout=10000,
         )  # fmt: skip
-        page.wait_for_timeout(1000)
-        last = _pixels(page)
+        last = _settled(page, lambda img: _contact_pixels(img) > 2000)
         thumb = page.locator("[role=slider]").first
         thumb.focus()
         page.keyboard.press("Home")  # the touch slider to 0: no contacts yet
@@ -169,8 +178,7 @@ def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay)
             "() => window.__viserSceneTree.getState()['/status'].message.props.text"
             ".startsWith('touch 0 of')", timeout=10000,
         )  # fmt: skip
-        page.wait_for_timeout(1000)
-        first = _pixels(page)
+        first = _settled(page, lambda img: _contact_pixels(img) < 500)
         assert _contact_pixels(last) > 2 * max(_contact_pixels(first), 10)
         assert page.get_by_label("hand").count() + page.get_by_text("hand").count() >= 1
         assert not errors, errors
@@ -197,3 +205,55 @@ def test_the_suite_report_page_loads_its_pictures(browser, tmp_path: Path) -> No
     assert page.get_by_text("no regression").count() == 1
     assert not errors and not outside
     page.close()
+
+
+def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) -> None:  # noqa: ANN001
+    from hapticsim.data.example_meshes import l_block
+    from hapticsim.data.objects import write_stl
+    from hapticsim.experiments.explore import explore
+
+    write_stl(tmp_path / "l_block.stl", l_block())
+    out = tmp_path / "run"
+    explore(str(tmp_path / "l_block.stl"), strategy="paper", seed=0, out_dir=out, progress=False,
+            count=60, method="multi", sensing="tactile")  # fmt: skip
+    data = load_run(out)
+    assert isinstance(data.estimate, SuperquadricUnion) and data.taxels is not None
+    page_file = export_html(data, replay_states(data, estimate_every=20), tmp_path / "l.html")
+    page, errors, outside = _open(browser, page_file.as_uri())
+    page.wait_for_function("() => window.__viserSceneTree &&"
+                           " window.__viserSceneTree.getState()['/status'] !== undefined")
+    bar = page.locator(".mantine-Slider-root").bounding_box()
+    page.locator("button").filter(has=page.locator("svg")).nth(1).click()
+    page.mouse.click(bar["x"] + 0.995 * bar["width"], bar["y"] + bar["height"] / 2)
+    page.wait_for_timeout(1500)
+    nodes = set(_nodes(page))
+    parts = {f"/estimate/part{j}" for j in range(len(data.estimate.parts))}
+    assert {"/truth/part0", "/taxels/pad"} | parts <= nodes
+    assert _drawn(_pixels(page)) > 0.03
+    assert not errors and not outside
+    page.close()
+
+
+def test_the_view_command_serves_until_interrupted(run_dir: Path) -> None:
+    import signal
+    import subprocess
+    import sys
+    import urllib.request
+
+    port = _free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "hapticsim.cli", "view", str(run_dir), "--port", str(port),
+         "--estimate-every", "50", "--quiet"],
+        stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        line = proc.stderr.readline()
+        assert f"at http://localhost:{port}" in line, line
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as reply:
+            assert reply.status == 200 and b"<html" in reply.read(2000).lower()
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=15)
+    finally:
+        proc.kill()
+    assert proc.returncode == 0, err
+    assert "Traceback" not in err and out == ""
