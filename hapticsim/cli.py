@@ -651,9 +651,9 @@ def _cmd_view(args: argparse.Namespace) -> int:
     if not 0 < args.port < 65536:
         raise InvalidInputError(f"--port must be in 1..65535, got {args.port}")
     run = load_run(args.run_dir)  # names the run's missing files, with or without viser
-    require_viser()  # the extra is installed, before the fits
     if args.export:
         check_output_path(args.export, (".html", ".htm"))
+    require_viser()  # the extra is installed, before the fits
     states = replay_states(run, args.estimate_every, progress=None if args.quiet else _fits_bar())
     if args.export:
         path = export_html(run, states, args.export)

@@ -82,3 +82,11 @@ def test_view_command_names_missing_files_with_exit_2(capsys, run_dir: Path, tmp
     for argv, match in cases:
         assert_bad_input(*run(capsys, "view", *argv), "view", match)
     assert not (tmp_path / "x.txt").exists()
+
+
+def test_view_without_viser_names_the_extra(capsys, run_dir: Path, monkeypatch) -> None:  # noqa: ANN001
+    import sys
+
+    monkeypatch.setitem(sys.modules, "viser", None)  # `import viser` raises ImportError
+    code, out, err = run(capsys, "view", str(run_dir), "--export", str(run_dir / "x.html"))
+    assert_bad_input(code, out, err, "view", "pip install 'hapticsim[viewer]'")
