@@ -195,6 +195,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
     if args.out:
         check_output_path(args.out)  # before the fit, not after it
+    if args.uncertainty and args.method == "multi":
+        raise InvalidInputError("--uncertainty is for one superquadric, not for --method multi")
     if args.contact_sigma and args.method != "nML":
         raise InvalidInputError("--contact-sigma is for --method nML only")
     if (args.noise is not None or args.free_space) and args.method not in ("nML", "multi"):
@@ -209,7 +211,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     results = []
     for path, (contacts, extra) in zip(args.contacts, inputs, strict=True):
         result = fit(contacts.points, contacts.normals, method=args.method, budget=args.budget,
-                     rng=args.seed, **extra)  # fmt: skip
+                     rng=args.seed, uncertainty=args.uncertainty, **extra)  # fmt: skip
         results.append(result.to_dict() if len(inputs) == 1 else
                        {"contacts": str(path), **result.to_dict()})  # fmt: skip
     out = results[0] if len(results) == 1 else results
@@ -533,6 +535,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--budget", type=int, default=None, help=f"EOF evaluations (default {DEFAULT_BUDGET})"
     )
     p.add_argument("--out", default=None, help="also write the result JSON here")
+    p.add_argument(
+        "--uncertainty", action="store_true",
+        help="add the estimate's uncertainty (Laplace at the optimum): standard deviations, "
+        "50 and 90 %% intervals of the volume, 90 %% of the semi-axes (not for multi)",
+    )  # fmt: skip
     p.set_defaults(func=_cmd_fit)
 
     p = sub.add_parser(

@@ -68,6 +68,7 @@ def fit(
     sigma: Any | None = None,
     sigma_normal: Any | None = None,
     parts: int | str | None = None,
+    uncertainty: bool = False,
 ) -> FitResult:
     """Fit a superquadric to contact points (and normals) with the paper's methods or nML, or a
     union of superquadrics with ``multi``.
@@ -108,6 +109,8 @@ def fit(
         parts: multi only: the number of parts, an int from 1 to :data:`MAX_FIT_PARTS`, or
             ``"auto"``/None (default) to choose up to
             :data:`~hapticsim.fitting.multi.MAX_PARTS` by the criterion.
+        uncertainty: also compute the Laplace approximation of the estimate's uncertainty
+            (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi.
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -140,6 +143,8 @@ def fit(
             f"`noise` and `free` are for methods nML and multi only, got method {method}"
         )
     part_count = _parts_arg(parts, multi)
+    if uncertainty and multi:
+        raise InvalidInputError("`uncertainty` is for one superquadric, not for method multi")
     noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
     if options is not None and not isinstance(options, MLOptions):
@@ -193,6 +198,12 @@ def fit(
         r = objective.contacts.residuals(best, weight, tapered=False)  # the SPEC §2 EOF
         eof, evaluations = float(np.mean(r**2)), evaluations + 1
     seconds = time.perf_counter() - start
+    posterior = None
+    if uncertainty:
+        from hapticsim.fitting.uncertainty import laplace
+
+        posterior = laplace(Superquadric.from_vector(best), pts, data_normals, weight,
+                            DEFAULT_DISTANCE if ml else distance)  # fmt: skip
     return FitResult(
         superquadric=Superquadric.from_vector(best),
         method=method,
@@ -204,6 +215,7 @@ def fit(
         message=_MESSAGES[status],
         noise=None if run is None else run.noise,
         setup_seconds=setup,
+        uncertainty=posterior,
     )
 
 

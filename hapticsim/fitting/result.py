@@ -42,6 +42,8 @@ class FitResult:
         setup_seconds: wall-clock time spent before the fit loading its compiled kernels from
             numba's cache, or compiling them on a fresh installation
             (:func:`hapticsim.fitting.kernels.prepare`; 0 once a process has them).
+        uncertainty: with ``fit(..., uncertainty=True)``, the Laplace approximation at the
+            optimum (:class:`~hapticsim.fitting.uncertainty.Uncertainty`), else None.
     """
 
     superquadric: Superquadric
@@ -56,6 +58,7 @@ class FitResult:
     solid: Solid | None = None
     selection: dict[str, Any] | None = None
     setup_seconds: float = 0.0
+    uncertainty: Any = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.superquadric, Superquadric):
@@ -90,6 +93,8 @@ class FitResult:
         extra: dict[str, Any] = {} if self.noise is None else {"noise": float(self.noise)}
         if self.selection is not None:
             extra["selection"] = self.selection
+        if self.uncertainty is not None:
+            extra["uncertainty"] = self.uncertainty.to_dict()
         assert self.solid is not None
         return {
             "superquadric": self.superquadric.to_dict(),
