@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim.fitting.objective import Bounds, Objective
-from hapticsim.geometry import Superquadric, matrix_to_rotvec, rotvec_to_matrix
+from hapticsim.geometry import Superquadric, rotvec_to_matrix
 from hapticsim.geometry import functions as fn
 from hapticsim.geometry.superquadric import (
     N_PARAMS,
@@ -128,8 +128,10 @@ def laplace(
     root = vectors * np.sqrt(np.clip(values, 0.0, None))
     draws = theta + gen.standard_normal((DRAWS, N_PARAMS)) @ root.T
     draws = np.clip(draws, bounds.lower, bounds.upper)
-    base = rotvec_to_matrix(theta[SLICE_ROTVEC])
-    rot = np.array([matrix_to_rotvec(base.T @ rotvec_to_matrix(v[SLICE_ROTVEC])) for v in draws])
+    from scipy.spatial.transform import Rotation
+
+    base = Rotation.from_matrix(rotvec_to_matrix(theta[SLICE_ROTVEC]))
+    rot = (base.inv() * Rotation.from_rotvec(draws[:, SLICE_ROTVEC])).as_rotvec()
     volumes = np.array([fn.volume(v[SLICE_A], v[SLICE_EPS], v[SLICE_TAPER]) for v in draws])
     return Uncertainty(covariance=cov, noise=float(np.sqrt(s2)), rank=rank, draws=draws,
                        volumes=volumes, rotation_draws=rot)  # fmt: skip
