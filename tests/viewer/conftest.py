@@ -1,4 +1,5 @@
-"""One explore run of 150 contacts (the viewer's bar is stated for one), shared by the tests."""
+"""Explore runs shared by the viewer's tests: 40 contacts for the default tests, 150 (the viewer's
+bar is stated for 150) for the browser tests behind the slow marker."""
 
 from __future__ import annotations
 
@@ -8,12 +9,21 @@ import pytest
 
 from hapticsim.experiments.explore import explore
 
-#: Contacts of the shared run.
-COUNT = 150
+#: Contacts of the default tests' run.
+COUNT = 40
+
+
+def _run(tmp_path_factory, count: int) -> Path:  # noqa: ANN001
+    out = tmp_path_factory.mktemp("view") / "run"
+    explore("cube", strategy="paper", seed=0, out_dir=out, progress=False, count=count)
+    return out
 
 
 @pytest.fixture(scope="session")
 def run_dir(tmp_path_factory) -> Path:  # noqa: ANN001
-    out = tmp_path_factory.mktemp("view") / "run"
-    explore("cube", strategy="paper", seed=0, out_dir=out, progress=False, count=COUNT)
-    return out
+    return _run(tmp_path_factory, COUNT)
+
+
+@pytest.fixture(scope="session")
+def run_dir_150(tmp_path_factory) -> Path:  # noqa: ANN001
+    return _run(tmp_path_factory, 150)

@@ -49,8 +49,8 @@ def browser() -> Any:
 
 
 @pytest.fixture(scope="module")
-def replay(run_dir: Path) -> tuple[Any, list[Any]]:
-    data = load_run(run_dir)
+def replay(run_dir_150: Path) -> tuple[Any, list[Any]]:
+    data = load_run(run_dir_150)
     return data, replay_states(data, estimate_every=10)
 
 

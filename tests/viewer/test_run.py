@@ -32,7 +32,7 @@ def test_explore_writes_the_hand_at_every_touch(run_dir: Path) -> None:
 
 def test_replay_has_one_state_per_touch_and_ends_on_the_runs_estimate(run_dir: Path) -> None:
     data = load_run(run_dir)
-    states = replay_states(data, estimate_every=10)
+    states = replay_states(data, estimate_every=4)
     with np.load(run_dir / "hand.npz") as h:
         assert [s.contacts for s in states] == list(h["contacts"])
     assert all(s.estimate is None for s in states if s.contacts < MIN_FIT_CONTACTS)
@@ -40,7 +40,7 @@ def test_replay_has_one_state_per_touch_and_ends_on_the_runs_estimate(run_dir: P
     assert states[-1].epsilon == pytest.approx(data.metrics["epsilon"])
     later = [s.epsilon for s in states if s.epsilon is not None]
     assert later and all(0.0 <= e < 2.0 for e in later)
-    # refits every 10th state that has 13 contacts: fewer distinct estimates than states
+    # refits every 4th state that has 13 contacts: fewer distinct estimates than states
     assert 1 < len({id(s.estimate) for s in states if s.estimate is not None}) < len(states)
 
 
