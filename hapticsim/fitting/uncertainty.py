@@ -6,7 +6,8 @@ the residuals are linear, r(θ) ≈ r(θ*) + J (θ - θ*), so with Gaussian resi
 
     s² = |r(θ*)|² / (m - 13),    Σ = s² (JᵀJ)⁺
 
-is the covariance of θ (m residuals; J by central differences; the pseudo-inverse leaves
+is the covariance of θ (m residuals; J by central differences of the fit's residuals; the
+pseudo-inverse leaves
 directions the data do not fix at zero variance, which is what one-sided data would make
 infinite: see :attr:`Uncertainty.rank`). From Σ, :func:`laplace` draws parameter vectors (a
 fixed seed), clipped into the fitter's bounds, and reports per-parameter standard deviations
@@ -26,9 +27,10 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim.fitting.objective import Bounds, Objective
+from hapticsim.fitting.objective import Bounds
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
 from hapticsim.geometry import functions as fn
+from hapticsim.geometry.eof import ContactSet, check_distance
 from hapticsim.geometry.superquadric import (
     N_PARAMS,
     SLICE_A,
@@ -38,12 +40,12 @@ from hapticsim.geometry.superquadric import (
     SLICE_TAPER,
 )
 
+#: Central-difference step, relative to the parameter's scale (the data size for lengths).
+STEP: float = 1e-6
 #: Draws from the Laplace posterior behind the intervals (a fixed seed: the same fit, the same
 #: intervals).
 DRAWS: int = 2000
 DRAW_SEED: int = 20260
-#: Central-difference step, relative to the parameter's scale (the data size for lengths).
-STEP: float = 1e-6
 METHOD: str = "laplace"
 
 
@@ -57,6 +59,8 @@ class Uncertainty:
         rank: rank of JᵀJ (13: every direction fixed by the data).
         draws: (DRAWS, 13) parameter vectors drawn from it, clipped into the bounds.
         volumes: (DRAWS,) their volumes [m^3].
+        rotation_draws: (DRAWS, 3) rotation vector from the estimate's rotation to each draw's
+            [rad].
     """
 
     covariance: np.ndarray
@@ -105,13 +109,13 @@ def laplace(
         points: (n, 3) contacts [m]; normals: (n, 3) or None (LS, H).
         lam: the normals' weight; distance: the search distance (``"tapered"``/``"untapered"``).
     """
-    objective = Objective(points, normals, lam, budget=10 * N_PARAMS + 10, distance=distance)
     bounds = Bounds.from_points(points)
     theta = estimate.to_vector()
+    contacts = ContactSet.from_arrays(points, normals)
+    tapered = check_distance(distance)
     h = STEP * bounds.scale
-    plus = theta + np.diag(h)
-    minus = theta - np.diag(h)
-    r = objective.residuals(np.vstack([theta[None], plus, minus]))
+    r = contacts.residuals(np.vstack([theta[None], theta + np.diag(h), theta - np.diag(h)]),
+                           lam, tapered)  # fmt: skip
     r0, rp, rm = r[0], r[1:1 + N_PARAMS], r[1 + N_PARAMS:]
     jac = ((rp - rm) / (2 * h[:, None])).T  # (m, 13)
     m = len(r0)

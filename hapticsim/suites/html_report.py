@@ -59,7 +59,7 @@ def _group_png(name: str, results: dict[str, float], baseline: dict[str, float] 
     """The picture of one group: epsilon's distribution, and the paired cases when compared."""
     import matplotlib
 
-    matplotlib.use("Agg")
+    matplotlib.use("Agg", force=False)  # as the other figure writers: a chosen backend stays
     import io
 
     from matplotlib.figure import Figure
@@ -115,11 +115,9 @@ def _fmt(value: float | None, scale: float = 1.0, signed: bool = False) -> str:
     return f"{scale * value:+.4f}" if signed else f"{scale * value:.4f}"
 
 
-def report_html(
-    results: dict[str, Any], baseline: dict[str, Any] | None, pictures: dict[str, str],
-    comparison: Any = None,
-) -> str:  # fmt: skip
-    """The page's HTML (:func:`write_report`); `pictures`: group -> picture file name."""
+def report_html(results: dict[str, Any], pictures: dict[str, str], comparison: Any = None) -> str:
+    """The page's HTML (:func:`write_report`); `pictures`: group -> picture file name;
+    `comparison`: against the baseline, or None."""
     suite, summary, prov = results["suite"], results["summary"], results["provenance"]
     git = prov.get("git") or {}
     machine = prov.get("machine") or {}
@@ -215,7 +213,7 @@ def write_report(
         pictures[name] = file
         images[file] = _group_png(name, eps_new.get(name, {}),
                                   None if eps_base is None else eps_base.get(name, {}))  # fmt: skip
-    page = report_html(new, base, pictures, comparison)
+    page = report_html(new, pictures, comparison)
     with OutputSet():
         for file, data in images.items():
             write_bytes_atomic(out / file, data)

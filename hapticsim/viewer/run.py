@@ -14,10 +14,8 @@ state shows the run's saved estimate). Estimates need at least 13 contacts.
 
 from __future__ import annotations
 
-import json
-import sys
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -93,7 +91,7 @@ def load_run(path: str | Path) -> RunData:
     """
     from hapticsim.data.io import read_contacts
     from hapticsim.data.objects import load_mesh
-    from hapticsim.geometry import solid_from_json
+    from hapticsim.geometry import solid_from_dict, solid_from_json
 
     run = Path(path)
     if not run.is_dir():
@@ -104,16 +102,16 @@ def load_run(path: str | Path) -> RunData:
             f"{run} is not a complete explore run: missing {', '.join(missing)}"
         )
     contacts = read_contacts(run / "contacts.npz")
-    with np.load(run / "contacts.npz") as raw:
-        n = len(contacts.points)
-        finger = np.asarray(raw["finger"], int) if "finger" in raw else np.zeros(n, int)
+    n = len(contacts.points)
+    extra = contacts.extra or {}
+    finger = np.asarray(extra["finger"], int) if "finger" in extra else np.zeros(n, int)
     truth = (
         solid_from_json(run / "truth.json") if (run / "truth.json").is_file()
         else load_mesh(run / "truth.stl")
     )  # fmt: skip
-    estimate = solid_from_json(run / "fit.json")
-    fit = _read_json(run / "fit.json")
-    metrics = _read_json(run / "metrics.json")
+    fit = _read_object(run / "fit.json")
+    estimate = solid_from_dict(fit)
+    metrics = _read_object(run / "metrics.json")
     hand = _read_npz(run / "hand.npz") if (run / "hand.npz").is_file() else None
     names = (
         tuple(str(s) for s in hand["finger_names"]) if hand is not None and "finger_names" in hand
@@ -132,11 +130,10 @@ def load_run(path: str | Path) -> RunData:
     )  # fmt: skip
 
 
-def _read_json(path: Path) -> dict[str, Any]:
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, ValueError) as exc:
-        raise InvalidInputError(f"{path} does not read as JSON: {exc}") from None
+def _read_object(path: Path) -> dict[str, Any]:
+    from hapticsim._files import read_json
+
+    data = read_json(path)
     if not isinstance(data, dict):
         raise InvalidInputError(f"{path} must hold a JSON object")
     return data
@@ -158,6 +155,7 @@ class State:
         contacts: contacts recorded so far.
         hand_position, hand_wxyz: (G, 3) and (G, 4) pose of every hand geom, or None.
         estimate: the solid fitted to the contacts so far (None before 13), with its epsilon.
+        method: the method that fitted it.
     """
 
     contacts: int
@@ -165,7 +163,8 @@ class State:
     hand_wxyz: np.ndarray | None = None
     estimate: Solid | None = None
     epsilon: float | None = None
-    meta: dict[str, Any] = field(default_factory=dict)
+    method: str = ""
+
 
 
 def replay_states(
@@ -209,7 +208,8 @@ def replay_states(
                 progress(done, len(due) + 1)
         if k == len(counts) - 1:
             current = run.estimate
-            eps = float(run.metrics.get("epsilon", scorer.score(run.estimate).epsilon))
+            eps = run.metrics.get("epsilon")
+            eps = float(eps) if eps is not None else scorer.score(run.estimate).epsilon
             if progress is not None:
                 progress(len(due) + 1, len(due) + 1)
         states.append(State(
@@ -217,19 +217,9 @@ def replay_states(
             hand_position=None if positions is None else positions[k],
             hand_wxyz=None if rotations is None else rotations[k],
             estimate=current, epsilon=eps,
-            meta={"method": run.method if k == len(counts) - 1 else method},
+            method=run.method if k == len(counts) - 1 else method,
         ))  # fmt: skip
     return states
 
 
-def stderr_progress(label: str) -> Callable[[int, int], None]:
-    """A progress callback printing ``label: done/total`` on one line of stderr."""
-
-    def report(done: int, total: int) -> None:
-        end = "\n" if done >= total else ""
-        print(f"\r{label}: {done}/{total}", end=end, file=sys.stderr, flush=True)
-
-    return report
-
-
-__all__ = ["RunData", "State", "load_run", "missing_files", "replay_states", "stderr_progress"]
+__all__ = ["RunData", "State", "load_run", "missing_files", "replay_states"]

@@ -18,8 +18,6 @@ from hapticsim.viewer.run import RunData, State
 
 #: Layer names, in the order of the viewer's toggles.
 LAYERS: tuple[str, ...] = ("truth", "contacts", "normals", "estimate", "hand", "taxels")
-#: Layers a run without the matching file does not have.
-OPTIONAL_LAYERS: dict[str, str] = {"hand": "hand.npz", "taxels": "tactile.npz"}
 #: Colours (RGB 0-255): truth, estimate parts; fingers follow matplotlib's tab colours as the
 #: report does (hapticsim.experiments.explore_report.FINGER_COLORS).
 TRUTH_RGB: tuple[int, int, int] = (31, 119, 180)
@@ -152,7 +150,7 @@ class RunScene:
         self._show_taxels(state)
         eps = "" if state.epsilon is None else f", epsilon {state.epsilon:.3f}"
         fit = "no estimate yet (13 contacts needed)" if state.estimate is None else (
-            f"{state.meta.get('method', '')} estimate{eps}"
+            f"{state.method} estimate{eps}"
         )  # fmt: skip
         self._label.text = f"touch {k} of {len(self.states) - 1}: {state.contacts} contacts, {fit}"
         self.state = k

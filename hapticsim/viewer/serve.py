@@ -9,6 +9,8 @@ client into one HTML file that opens offline: its timeline replays the explorati
 
 from __future__ import annotations
 
+import contextlib
+import io
 import socket
 import sys
 import threading
@@ -45,9 +47,6 @@ def _free_port(host: str) -> int:
 
 
 def _start(host: str, port: int) -> Any:
-    import contextlib
-    import io
-
     viser = require_viser()
     try:  # viser prints a banner on stdout even when not verbose: stdout is ours (JSON)
         with contextlib.redirect_stdout(io.StringIO()):
@@ -143,9 +142,6 @@ def serve(
 
 
 def _stop(server: Any) -> None:
-    import contextlib
-    import io
-
     with contextlib.redirect_stdout(io.StringIO()):
         server.stop()
         time.sleep(0.05)  # let viser's threads see the stop before the interpreter goes on

@@ -180,7 +180,8 @@ def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay)
         )  # fmt: skip
         first = _settled(page, lambda img: _contact_pixels(img) < 500)
         assert _contact_pixels(last) > 2 * max(_contact_pixels(first), 10)
-        assert page.get_by_label("hand").count() + page.get_by_text("hand").count() >= 1
+        for layer in ("truth", "contacts", "normals", "estimate", "hand"):  # a toggle each
+            assert page.get_by_text(layer, exact=True).count() >= 1, layer
         assert not errors, errors
         assert not outside, f"the page fetched {outside}"
         page.close()
