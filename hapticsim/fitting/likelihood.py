@@ -50,6 +50,8 @@ from numpy.typing import NDArray
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import _eof_compiled as kernel
 from hapticsim.geometry.eof import ContactSet
+from hapticsim.geometry.rotations import rotvec_to_matrix
+from hapticsim.geometry.superquadric import SLICE_A, SLICE_CENTER, SLICE_ROTVEC
 
 Array = NDArray[np.float64]
 
@@ -76,6 +78,11 @@ class Likelihood:
         free_margin: how far outside the solid [m] free-space points must lie (0: outside).
         multipliers: (2, n) float, each contact's weight multipliers of its distance (row 0)
             and its normal residuals (row 1) (:func:`contact_weights`), or None (all 1).
+        anchor: (15,) float, the extent anchor (:func:`extent_anchor`): semi-axes A (3) [m],
+            centre coordinates C (3) [m] along three unit directions u_k, then u_k (3 x 3, row
+            by row); or None (no anchor).
+        anchor_sigma: std tau_x [m] of the anchor's Gaussian prior on each semi-axis and
+            centre coordinate, > 0 (used with `anchor`).
         normal_factor: ``sigma_n = normal_factor * noise``, > 0. The sensor's normal noise is
             sigma_N (factor 1), but the model normal is taken at the *measured* point: on a
             surface of curvature kappa the point noise moves it by ``kappa sigma_p`` per
@@ -91,6 +98,8 @@ class Likelihood:
     free_margin: float = 0.0
     normal_factor: float = 1.0
     multipliers: Array | None = None
+    anchor: Array | None = None
+    anchor_sigma: float = 1.0
 
     def __post_init__(self) -> None:
         for name in ("noise", "length", "normal_factor"):
@@ -108,6 +117,16 @@ class Likelihood:
             )
         if not np.isfinite(self.free_margin):
             raise InvalidInputError(f"`free_margin` must be finite, got {self.free_margin!r}")
+        if self.anchor is not None:
+            anchor = np.asarray(self.anchor, dtype=np.float64)
+            if anchor.shape != (kernel.ML_ANCHOR_SIZE,) or not np.all(np.isfinite(anchor)):
+                raise InvalidInputError(
+                    f"`anchor` must be ({kernel.ML_ANCHOR_SIZE},) finite, got shape {anchor.shape}"
+                )
+            if not (np.isfinite(self.anchor_sigma) and self.anchor_sigma > 0):
+                raise InvalidInputError(
+                    f"`anchor_sigma` must be finite and > 0, got {self.anchor_sigma!r}"
+                )
         if self.multipliers is not None:
             m = np.asarray(self.multipliers, dtype=np.float64)
             if m.ndim != 2 or m.shape[0] != 2 or not np.all(np.isfinite(m)) or np.any(m <= 0):
@@ -119,8 +138,9 @@ class Likelihood:
         return self.noise * self.length
 
     def settings(self) -> Array:
-        """The (8,) settings array of the compiled ML residuals (``_eof_compiled.ML_*``), with
-        the per-contact multipliers after them ((8 + n,)) when there are any."""
+        """The (ML_SETTINGS,) settings array of the compiled ML residuals
+        (``_eof_compiled.ML_*``), with the per-contact multipliers after them
+        ((ML_SETTINGS + 2 n,)) when there are any."""
         out = np.zeros(kernel.ML_SETTINGS)
         out[kernel.ML_POINT_WEIGHT] = 1.0 / self.point_sigma
         out[kernel.ML_NORMAL_WEIGHT] = 1.0 / (self.normal_factor * self.noise)
@@ -132,9 +152,47 @@ class Likelihood:
             out[kernel.ML_EPS_WEIGHT] = 1.0 / self.eps_prior[1]
         out[kernel.ML_FREE_WEIGHT] = 1.0 / self.point_sigma
         out[kernel.ML_FREE_MARGIN] = self.free_margin
+        if self.anchor is not None:
+            out[kernel.ML_ANCHOR_WEIGHT] = 1.0 / self.anchor_sigma
+            out[kernel.ML_ANCHOR : kernel.ML_SETTINGS] = self.anchor
         if self.multipliers is not None:
             out = np.concatenate([out, np.asarray(self.multipliers, dtype=np.float64).ravel()])
         return out
+
+
+def extent_anchor(start: Array, reference: Array) -> Array:
+    """The extent anchor (:attr:`Likelihood.anchor`) that holds a fit started at `start` to the
+    extents of `reference`.
+
+    The directions u_k are the body axes of `start`; each takes the semi-axis of the
+    `reference` axis most nearly parallel to it (so that a solid whose axes are named in
+    another order is anchored to the same extents) and the reference centre's coordinate along
+    it. A Gaussian prior on ``a_k - A_k`` and ``u_k . c - C_k`` then holds both faces of the
+    solid along u_k near the reference's, where the contacts do not fix them.
+
+    Args:
+        start: (13,) parameter vector of the fit's start.
+        reference: (13,) parameter vector of the solid to anchor to.
+
+    Returns:
+        (15,) float: A (3) [m], C (3) [m], u (3 x 3, row k = u_k).
+    """
+    axes = rotvec_to_matrix(np.asarray(start, dtype=np.float64)[SLICE_ROTVEC])
+    ref = np.asarray(reference, dtype=np.float64)
+    ref_axes = rotvec_to_matrix(ref[SLICE_ROTVEC])
+    match = np.argmax(np.abs(ref_axes.T @ axes), axis=0)
+    a = ref[SLICE_A][match]
+    c = axes.T @ ref[SLICE_CENTER]
+    return np.concatenate([a, c, axes.T.ravel()])
+
+
+def anchor_gap(vector: Array, anchor: Array) -> Array:
+    """The extent anchor's gaps (6,) [m] of a parameter vector (13,): ``a_k - A_k`` (3), then
+    ``u_k . c - C_k`` (3) (:func:`extent_anchor`; the compiled ML residuals divide them by
+    tau_x)."""
+    v, held = np.asarray(vector, dtype=np.float64), np.asarray(anchor, dtype=np.float64)
+    axes = held[6:].reshape(3, 3)
+    return np.concatenate([v[SLICE_A] - held[:3], axes @ v[SLICE_CENTER] - held[3:6]])
 
 
 def _relative(s: Array) -> Array:
@@ -202,8 +260,10 @@ __all__ = [
     "TRIM_FACTOR",
     "WEIGHT_RANGE",
     "Likelihood",
+    "anchor_gap",
     "contact_distances",
     "contact_weights",
     "estimate_noise",
+    "extent_anchor",
     "normal_ratio",
 ]

@@ -27,6 +27,7 @@ history holds the ML stages' cost (``sum(r^2) / n``), after the EOF search's eva
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -41,12 +42,21 @@ from hapticsim.fitting.least_squares import (
     least_squares_run,
     multi_start_run,
 )
-from hapticsim.fitting.likelihood import Likelihood, estimate_noise
+from hapticsim.fitting.likelihood import (
+    Likelihood,
+    anchor_gap,
+    estimate_noise,
+    extent_anchor,
+)
 from hapticsim.fitting.objective import Objective
 from hapticsim.geometry.superquadric import SLICE_A
 
 Array = NDArray[np.float64]
 
+
+#: The noise level sigma_N at which :attr:`MLOptions.anchor` is the anchor's std in units of L
+#: (it scales as 1 / sigma_N).
+ANCHOR_NOISE: float = 0.1
 
 #: Where nML's search finds its basins (:attr:`MLOptions.search`).
 SEARCHES: tuple[str, ...] = ("eof", "ml")
@@ -78,6 +88,17 @@ class MLOptions:
         candidates: distinct solids of the EOF search's last generation probed, >= 1.
         probe_steps: Levenberg-Marquardt steps of each ML probe, >= 1.
         ml_budget: with ``search="eof"``, the evaluations kept for the ML stages, >= 1.
+        anchor: std of the extent anchor in units of the length scale L at sigma_N =
+            :data:`ANCHOR_NOISE`, > 0, or None (no anchor). With ``search="eof"`` the ML
+            stages are held by a Gaussian prior of std
+            ``tau_x = anchor * L * ANCHOR_NOISE / sigma_N`` on each semi-axis and centre
+            coordinate to the extents of the EOF search's best solid
+            (:func:`~hapticsim.fitting.likelihood.extent_anchor`), and the basin is chosen by
+            the ML cost plus that prior: the orthogonal distance has no term that holds a face
+            no contact touched, and on one-sided data it stretched such faces to twice their
+            size (``docs/nml/README.md``). Where contacts fix a face, their weight
+            ``~ m / sigma_p^2`` outweighs the anchor's; the anchor loosens as the noise falls,
+            where the rigid shape model carries the seen curvature over to the unseen side.
         hybrid: settings of the search.
     """
 
@@ -94,6 +115,7 @@ class MLOptions:
     candidates: int = 6
     probe_steps: int = 8
     ml_budget: int = 1500
+    anchor: float | None = 0.1
     hybrid: HybridOptions | None = None
 
     def __post_init__(self) -> None:
@@ -114,22 +136,34 @@ class MLOptions:
                 f"`candidates`, `probe_steps` and `ml_budget` must be >= 1, got "
                 f"{self.candidates}, {self.probe_steps} and {self.ml_budget}"
             )
+        if self.anchor is not None and not (np.isfinite(self.anchor) and self.anchor > 0):
+            raise InvalidInputError(f"`anchor` must be > 0 or None, got {self.anchor!r}")
         self.likelihood(0.1, 1.0)  # validates robust, the priors and the margin
 
     def likelihood(
         self, noise: float, length: float, multipliers: Array | None = None,
-        normal_ratio: float | None = None,
+        normal_ratio: float | None = None, anchor: Array | None = None,
     ) -> Likelihood:  # fmt: skip
         """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale,
-        with per-contact weight multipliers and the normals' noise per metre of the points'
-        (``normal_factor = normal_ratio * length`` instead of :attr:`normal_factor`) when
+        with per-contact weight multipliers, the normals' noise per metre of the points'
+        (``normal_factor = normal_ratio * length`` instead of :attr:`normal_factor`) and the
+        extent anchor (std ``self.anchor * length``; ignored when :attr:`anchor` is None) when
         given."""
         factor = self.normal_factor if normal_ratio is None else normal_ratio * length
+        held = anchor is not None and self.anchor is not None
+        noise = max(noise, self.noise_floor)
         return Likelihood(
-            noise=max(noise, self.noise_floor), length=length, robust=self.robust,
+            noise=noise, length=length, robust=self.robust,
             taper_prior=self.taper_prior, eps_prior=self.eps_prior, free_margin=self.free_margin,
-            normal_factor=factor, multipliers=multipliers,
+            normal_factor=factor, multipliers=multipliers, anchor=anchor if held else None,
+            anchor_sigma=self.anchor_sigma(noise, length) if held else 1.0,
         )  # fmt: skip
+
+    def anchor_sigma(self, noise: float, length: float) -> float:
+        """The extent anchor's std tau_x [m] at a noise level and length scale (:attr:`anchor`;
+        requires it set)."""
+        assert self.anchor is not None
+        return self.anchor * length * ANCHOR_NOISE / max(noise, self.noise_floor)
 
 
 @dataclass(frozen=True)
@@ -178,17 +212,32 @@ def ml_search(
         raise InvalidInputError("ml_search needs an objective with ML settings")
     total = objective.budget
     keep = min(opt.refine_budget, total // 4) if opt.refine else 0
+    given = noise is not None
+    sigma = float(noise) if given else opt.initial_noise
+    length = objective.bounds.size / np.sqrt(3.0)
+    anchor = None
     if opt.search == "eof":
-        status = _eof_search(objective, seeds, rng, opt, total - keep)
+        def penalty(start: Array, reference: Array) -> float:
+            if opt.anchor is None:
+                return 0.0
+            gap = anchor_gap(start, extent_anchor(start, reference))
+            return float(np.sum(gap**2)) / opt.anchor_sigma(sigma, length) ** 2
+
+        def hold(start: Array, reference: Array) -> None:
+            nonlocal anchor
+            if opt.anchor is not None:
+                anchor = extent_anchor(start, reference)
+                objective.reweight(
+                    opt.likelihood(sigma, length, multipliers, normal_ratio, anchor).settings()
+                )
+
+        status = _eof_search(objective, seeds, rng, opt, total - keep, penalty, hold)
     else:
         objective.budget = total - keep  # the search leaves `keep` for the refinement
         try:
             _, status = hybrid_search(objective, seeds, rng, opt.hybrid)
         finally:
             objective.budget = total
-    given = noise is not None
-    sigma = float(noise) if given else opt.initial_noise
-    length = objective.bounds.size / np.sqrt(3.0)
     for _ in range(opt.refine):
         if objective.remaining < MIN_RUN_EVALUATIONS:
             break
@@ -196,17 +245,22 @@ def ml_search(
         length = float(np.mean(best[SLICE_A]))
         if not given:
             sigma = estimate_noise(objective.contacts, best, length, multipliers)
-        objective.reweight(opt.likelihood(sigma, length, multipliers, normal_ratio).settings())
+        objective.reweight(
+            opt.likelihood(sigma, length, multipliers, normal_ratio, anchor).settings()
+        )
         status = least_squares_run(objective, best).status
     return MLRun(status=status, noise=max(sigma, opt.noise_floor), estimated=not given,
                  length=length)  # fmt: skip
 
 
 def _eof_search(
-    objective: Objective, seeds: Array, rng: np.random.Generator, opt: MLOptions, cap: int
-) -> str:
+    objective: Objective, seeds: Array, rng: np.random.Generator, opt: MLOptions, cap: int,
+    penalty: Callable[[Array, Array], float], hold: Callable[[Array, Array], None],
+) -> str:  # fmt: skip
     """nH's search on the paper EOF, then ML probes from its distinct solids and an ML polish,
-    all within `cap` evaluations counted on `objective`."""
+    all within `cap` evaluations counted on `objective`. The probes are ranked by their ML cost
+    plus ``penalty(probe, best)`` (the extent anchor's prior against the EOF search's best), and
+    ``hold(start, best)`` is called before the polish (it sets the anchor)."""
     total, ml_share = objective.budget, min(opt.ml_budget, cap // 2)
     eof = Objective(objective.points, objective.normals, DEFAULT_LAMBDA, cap - ml_share, "tapered")
     run, status = hybrid_search(eof, seeds, rng, opt.hybrid)
@@ -218,8 +272,10 @@ def _eof_search(
         probe = len(x) * (1 + opt.probe_steps * STEP_EVALUATIONS)
         if len(x) > 1 and objective.remaining >= probe + MIN_RUN_EVALUATIONS:
             x, cost = multi_start_run(objective, x, opt.probe_steps)
-            x = x[np.argsort(cost, kind="stable")]
+            held = np.array([penalty(v, eof.best_vector) for v in x]) / objective.count
+            x = x[np.argsort(cost + held, kind="stable")]
         if objective.remaining >= MIN_RUN_EVALUATIONS:
+            hold(x[0], eof.best_vector)
             status = least_squares_run(objective, x[0]).status
     finally:
         objective.budget = total
@@ -252,4 +308,4 @@ def with_options(options: MLOptions | None, **changes: object) -> MLOptions:
     return replace(MLOptions() if options is None else options, **changes)
 
 
-__all__ = ["MLOptions", "MLRun", "ml_objective", "ml_search", "with_options"]
+__all__ = ["ANCHOR_NOISE", "MLOptions", "MLRun", "ml_objective", "ml_search", "with_options"]

@@ -508,16 +508,22 @@ def _rotate_to_body(x: float, y: float, z: float, f: tuple) -> tuple[float, floa
 #: Layout of the settings array of the maximum-likelihood residuals (:func:`ml_residuals_posed`).
 #: Point weight 1/sigma_p [1/m]; normal weight 1/sigma_n; robust threshold c on the normalised
 #: norm of a contact's residual (<= 0: plain squares); taper prior weight 1/tau_t; eps prior
-#: centre and weight 1/tau_e; free-space weight [1/m] and margin [m].
+#: centre and weight 1/tau_e; free-space weight [1/m] and margin [m]; the extent anchor's weight
+#: 1/tau_x [1/m] (0: none) and its 15 numbers from ML_ANCHOR on: the anchored semi-axes
+#: A (3) [m], the anchored centre coordinates C (3) [m] and the three unit directions u_k (3 x 3,
+#: row by row) along which the centre is anchored.
 ML_POINT_WEIGHT, ML_NORMAL_WEIGHT, ML_ROBUST = 0, 1, 2
 ML_TAPER_WEIGHT, ML_EPS_CENTER, ML_EPS_WEIGHT = 3, 4, 5
 ML_FREE_WEIGHT, ML_FREE_MARGIN = 6, 7
-ML_SETTINGS = 8
+ML_ANCHOR_WEIGHT, ML_ANCHOR = 8, 9
+ML_ANCHOR_SIZE = 15
+ML_SETTINGS = ML_ANCHOR + ML_ANCHOR_SIZE
 #: With per-contact weights the settings array holds, after its ML_SETTINGS globals, one
 #: multiplier per contact of its distance residual, then one per contact of its normal
 #: residuals ((ML_SETTINGS + 2 n,) in all).
-#: Prior residuals appended after the contacts: tx, ty, eps1, eps2.
-ML_PRIORS = 4
+#: Prior residuals appended after the contacts: tx, ty, eps1, eps2, then the anchor's
+#: a_k - A_k (3) and u_k . c - C_k (3).
+ML_PRIORS = 10
 
 
 @njit(**_INLINE)
@@ -629,7 +635,8 @@ def ml_residuals_posed(
     - ``w_i (d_i / sigma_p, e_i / sigma_n)`` with d the first-order signed distance
       ``(1 - s) / |grad log G|`` [m] and ``e = n'/|n'| - n`` (model unit normal minus measured);
       ``w_i`` the pseudo-Huber factor of the normalised squared norm (:func:`robust_weight`);
-    - ``tx / tau_t``, ``ty / tau_t``, ``(eps_k - eps_0) / tau_e``;
+    - ``tx / tau_t``, ``ty / tau_t``, ``(eps_k - eps_0) / tau_e``; the anchor's
+      ``(a_k - A_k) / tau_x`` and ``(u_k . c - C_k) / tau_x`` (zero when its weight is 0);
     - per free-space point q: ``max(0, margin - d(q)) / sigma_p``, zero outside the solid.
 
     Args:
@@ -682,6 +689,13 @@ def ml_residuals_posed(
         row[base + 1] = wt * ty
         row[base + 2] = we * (e1 - e0)
         row[base + 3] = we * (e2 - e0)
+        wa = settings[ML_ANCHOR_WEIGHT]
+        for q in range(3):
+            row[base + 4 + q] = wa * (a[b, q] - settings[ML_ANCHOR + q])
+            u = ML_ANCHOR + 6 + 3 * q
+            cu = (settings[u] * center[b, 0] + settings[u + 1] * center[b, 1]
+                  + settings[u + 2] * center[b, 2])  # fmt: skip
+            row[base + 7 + q] = wa * (cu - settings[ML_ANCHOR + 3 + q])
         base += ML_PRIORS
         for j in range(nf):
             bx, by, bz = _to_body(free[0, j], free[1, j], free[2, j], f)[3:]
@@ -978,6 +992,15 @@ def ml_jacobian_vector(
     r_out[base + 1], jac_t[6, base + 1] = wt * ty, wt
     r_out[base + 2], jac_t[3, base + 2] = we * (e1 - e0), we
     r_out[base + 3], jac_t[4, base + 3] = we * (e2 - e0), we
+    wa = settings[ML_ANCHOR_WEIGHT]
+    for q in range(3):
+        r_out[base + 4 + q], jac_t[q, base + 4 + q] = wa * (x[q] - settings[ML_ANCHOR + q]), wa
+        u = ML_ANCHOR + 6 + 3 * q
+        cu = 0.0
+        for j in range(3):
+            cu += settings[u + j] * x[10 + j]
+            jac_t[10 + j, base + 7 + q] = wa * settings[u + j]
+        r_out[base + 7 + q] = wa * (cu - settings[ML_ANCHOR + 3 + q])
     base += ML_PRIORS
     for j in range(nf):
         d0, d1, d2, bx, by, bz = _to_body(free[0, j], free[1, j], free[2, j], f)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hapticsim.fitting.likelihood import Likelihood
+from hapticsim.fitting.likelihood import Likelihood, anchor_gap, extent_anchor
 from hapticsim.geometry import Superquadric, random_rotation
 from hapticsim.geometry import _eof_compiled as kernel
 from hapticsim.geometry.eof import ContactSet
@@ -73,16 +73,19 @@ def test_ml_jacobian_matches_central_differences(seed: int) -> None:
     factors = 1.0 + np.outer(body[:, 2] / sq.a[2], sq.taper)
     keep = np.all(np.abs(body) > 1e-4, axis=1) & np.all(factors > 0.05, axis=1)
     points, normals = points[keep], normals[keep]
-    lik = Likelihood(noise=0.05, length=float(np.mean(sq.a)), robust=2.0, taper_prior=0.3,
-                     eps_prior=(0.5, 0.4))  # fmt: skip
     x = sq.to_vector()
+    held = extent_anchor(x + np.random.default_rng(seed).normal(0, 0.05, 13), x)
+    lik = Likelihood(noise=0.05, length=float(np.mean(sq.a)), robust=2.0, taper_prior=0.3,
+                     eps_prior=(0.5, 0.4), anchor=held, anchor_sigma=0.004)  # fmt: skip
     step = 1e-6 * np.r_[sq.a, [1.0] * 7, [float(np.mean(sq.a))] * 3]
     for nrm in (normals, None):
         contacts = ContactSet.from_arrays(points, nrm)
         problem = contacts.problem(0.0, True, lik.settings(), free)
         r, jac = contacts.problem_jacobian(problem, x)
         np.testing.assert_allclose(r, contacts.problem_residuals(problem, x)[0], rtol=1e-12)
-        assert len(r) == (4 if nrm is not None else 1) * len(points) + 4 + len(free)
+        assert len(r) == (4 if nrm is not None else 1) * len(points) + kernel.ML_PRIORS + len(free)
+        prior = r[len(r) - len(free) - 6 : len(r) - len(free)]
+        np.testing.assert_allclose(prior, anchor_gap(x, held) / 0.004, rtol=1e-12, atol=1e-12)
         numeric = np.empty_like(jac)
         for k in range(13):
             up, down = x.copy(), x.copy()

@@ -1,0 +1,213 @@
+"""nML on held-out families it was not tuned on, against nH and the truth-started oracle.
+
+    python scripts/nml_heldout.py --out docs/nml/heldout_v3.json \
+        --rows docs/nml/heldout_v3_rows.json
+
+Families (each case at a random pose; data seed = case seed + 7919, fit seed = case seed):
+
+- ``paper``: the paper's pattern (``paper_dataset``), 150 contacts, on the paper's bodies and on
+  random tapered superquadrics;
+- ``front``: one-sided: all contacts on the +x half of the body (a corner patch and stripes
+  crossing the +x face's edges), the -x face and the bottom corners never touched, on random
+  tapered superquadrics (the pattern was used for tuning the extent anchor, on the paper's
+  bodies; these shapes were not);
+- ``side``: one-sided, a pattern never used for tuning: a patch on the +y face and two stripes
+  from it over its edges onto the +z and -x faces; paper bodies and random tapered shapes;
+- ``elongated``: elongated and flat shapes (axis ratios up to 7), the paper's pattern and the
+  ``side`` pattern;
+- ``extreme``: extreme exponents (each in [0.1, 0.25] or [1.5, 2.0]), the paper's pattern;
+- ``sparse``: the paper's pattern with 40 contacts on the paper's bodies.
+
+Variants: ``nH``, ``oracle`` (nLS from the truth), ``nML`` (the defaults) and ``nML-free``
+(nML without the extent anchor, ``MLOptions(anchor=None)``). Prints JSON: mean epsilon per
+family, noise level and variant, nML's worst case against nH, paired tests, median CPU seconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from typing import Any
+
+import numpy as np
+
+NOISES = (0.0, 0.02, 0.05, 0.1)
+VARIANTS = ("nH", "oracle", "nML", "nML-free")
+_D = np.pi / 180.0
+_CORNER = float(np.arctan(1.0 / np.sqrt(2.0)))
+ELONGATED = (  # semi-axes [m] and exponents
+    ((0.06, 0.015, 0.012), (0.3, 0.5)), ((0.015, 0.05, 0.01), (1.0, 1.0)),
+    ((0.04, 0.04, 0.008), (0.2, 0.8)), ((0.012, 0.012, 0.06), (0.6, 0.3)),
+    ((0.05, 0.02, 0.02), (1.5, 0.2)),
+)  # fmt: skip
+
+
+def _split(count: int, weights: list[float]) -> list[int]:
+    share = count * np.asarray(weights) / np.sum(weights)
+    base = np.floor(share).astype(int)
+    base[np.argsort(-(share - base), kind="stable")[: count - int(base.sum())]] += 1
+    return [int(b) for b in base]
+
+
+def _patterns(name: str, count: int) -> list[Any]:
+    from hapticsim.data.patterns import Patch, Stripe
+
+    if name == "front":
+        c = _split(count, [0.34, 0.17, 0.17, 0.17, 0.15])
+        return [
+            Patch((_CORNER - 20 * _D, _CORNER + 20 * _D), (23 * _D, 67 * _D), c[0]),
+            Stripe((-62 * _D, -17 * _D), (62 * _D, -17 * _D), c[1]),
+            Stripe((-62 * _D, 0.0), (62 * _D, 0.0), c[2]),
+            Stripe((-62 * _D, 17 * _D), (62 * _D, 17 * _D), c[3]),
+            Stripe((-35 * _D, 25 * _D), (20 * _D, 115 * _D), c[4]),
+        ]
+    c = _split(count, [0.4, 0.3, 0.3])  # side
+    return [
+        Patch((-30 * _D, 30 * _D), (65 * _D, 115 * _D), c[0]),
+        Stripe((-10 * _D, 80 * _D), (75 * _D, 80 * _D), c[1]),
+        Stripe((10 * _D, 70 * _D), (10 * _D, 165 * _D), c[2]),
+    ]
+
+
+def cases() -> list[tuple[str, str, int, float, int]]:
+    """(family, shape, seed, noise, contacts) of every case; the pattern follows the family
+    (``elongated`` alternates paper and side by seed)."""
+    out = []
+    for noise in NOISES:
+        out += [("paper", body, s, noise, 150) for body in
+                ("tapered_box", "cube", "cylinder", "ellipsoid") for s in range(100, 103)]
+        out += [("paper", "random", s, noise, 150) for s in range(1000, 1010)]
+        out += [("front", "random", s, noise, 150) for s in range(3000, 3012)]
+        out += [("side", body, s, noise, 150) for body in
+                ("tapered_box", "cube", "cylinder", "ellipsoid") for s in range(4000, 4002)]
+        out += [("side", "random", s, noise, 150) for s in range(4100, 4108)]
+        out += [("elongated", f"elongated{k}", s, noise, 150) for k in range(len(ELONGATED))
+                for s in range(5000, 5002)]
+        out += [("extreme", "extreme", s, noise, 150) for s in range(6000, 6010)]
+        out += [("sparse", body, s, noise, 40) for body in
+                ("tapered_box", "cube", "cylinder", "ellipsoid") for s in range(7000, 7002)]
+    return out  # fmt: skip
+
+
+def _truth(shape: str, seed: int) -> Any:
+    from hapticsim.data.bodies import get_body
+    from hapticsim.data.objects import random_superquadric
+    from hapticsim.geometry import Superquadric, random_rotation
+
+    rng = np.random.default_rng(seed)
+    if shape == "random":
+        body = random_superquadric(rng, tapered=True)
+    elif shape.startswith("elongated"):
+        a, eps = ELONGATED[int(shape[len("elongated"):])]
+        body = Superquadric(a=a, eps=eps)
+    elif shape == "extreme":
+        a = rng.uniform(0.02, 0.05, size=3)
+        eps = [rng.uniform(0.1, 0.25) if rng.random() < 0.5 else rng.uniform(1.5, 2.0)
+               for _ in range(2)]  # fmt: skip
+        body = Superquadric(a=a, eps=eps, taper=rng.uniform(-0.3, 0.3, size=2))
+    else:
+        body = get_body(shape)
+    return body.transformed(random_rotation(rng), rng.normal(0.0, 0.1, size=3))
+
+
+def _contacts(family: str, truth: Any, noise: float, seed: int, count: int) -> Any:
+    from hapticsim.data.noise import add_noise
+    from hapticsim.data.patterns import render
+    from hapticsim.data.synthetic import paper_dataset
+
+    pattern = family
+    if family == "elongated":
+        pattern = "paper" if seed % 2 == 0 else "side"
+    if pattern in ("paper", "extreme", "sparse"):
+        data = paper_dataset(truth, noise=noise, rng=seed + 7919, count=count)
+        return data.points, data.normals
+    gen = np.random.default_rng(seed + 7919)
+    points, normals, _ = render(truth, _patterns(pattern, count), gen)
+    return add_noise(points, normals, noise, float(np.mean(truth.a)), gen)
+
+
+def _task(case: tuple[str, str, int, float, int]) -> list[dict[str, Any]]:
+    from hapticsim.fitting import fit
+    from hapticsim.fitting.ml import MLOptions
+    from hapticsim.metrics import volume_overlap
+
+    family, shape, seed, noise, count = case
+    truth = _truth(shape, seed)
+    points, normals = _contacts(family, truth, noise, seed, count)
+    rows = []
+    for variant in VARIANTS:
+        cpu = time.process_time()
+        if variant == "oracle":
+            result = fit(points, normals, method="nLS", initial=truth)
+        elif variant == "nH":
+            result = fit(points, normals, method="nH", rng=seed)
+        else:
+            options = MLOptions(anchor=None) if variant == "nML-free" else None
+            result = fit(points, normals, method="nML", rng=seed, options=options)
+        cpu = time.process_time() - cpu
+        overlap = volume_overlap(result.superquadric, truth, samples=20000, rng=seed)
+        rows.append({"family": family, "shape": shape, "seed": seed, "noise": noise,
+                     "variant": variant, "epsilon": overlap.alpha + overlap.beta,
+                     "cpu_seconds": cpu})  # fmt: skip
+    return rows
+
+
+def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    from scipy.stats import wilcoxon
+
+    table: dict[str, Any] = {}
+    families = sorted({r["family"] for r in rows}) + ["all"]
+    for family in families:
+        for noise in NOISES:
+            sel = [r for r in rows if (family == "all" or r["family"] == family)
+                   and r["noise"] == noise]  # fmt: skip
+            eps = {v: np.array([r["epsilon"] for r in sel if r["variant"] == v]) for v in VARIANTS}
+            d_nh = eps["nML"] - eps["nH"]
+            d_or = eps["nML"] - eps["oracle"]
+            cell = {v: round(float(np.mean(e)), 4) for v, e in eps.items()}
+            cell["cases"] = len(eps["nH"])
+            cell["nML_worst_vs_nH"] = round(float(np.max(d_nh)), 4)
+            cell["nML-free_worst_vs_nH"] = round(float(np.max(eps["nML-free"] - eps["nH"])), 4)
+            if noise > 0 and np.any(d_or != 0):
+                cell["nML_vs_oracle_p"] = float(wilcoxon(d_or, alternative="less").pvalue)
+            table.setdefault(family, {})[str(noise)] = cell
+    cpu = {v: round(float(np.median([r["cpu_seconds"] for r in rows if r["variant"] == v])), 4)
+           for v in VARIANTS}  # fmt: skip
+    return {"epsilon": table, "median_cpu_seconds": cpu,
+            "nML_over_nH_time": round(cpu["nML"] / cpu["nH"], 3)}  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--processes", type=int, default=2)
+    parser.add_argument("--out", default=None, help="write the summary JSON here too")
+    parser.add_argument("--rows", default=None, help="write every case's row here")
+    args = parser.parse_args(argv)
+    todo = cases()
+    start, load = time.perf_counter(), os.getloadavg()[0]
+    rows: list[dict[str, Any]] = []
+    with ProcessPoolExecutor(args.processes) as pool:
+        for i, part in enumerate(pool.map(_task, todo, chunksize=4)):
+            rows += part
+            if (i + 1) % 40 == 0:
+                print(f"{i + 1}/{len(todo)} cases, {time.perf_counter() - start:.0f} s",
+                      file=sys.stderr, flush=True)  # fmt: skip
+    out = {"cases": len(todo), "wall_seconds": round(time.perf_counter() - start, 1),
+           "load_average_start": load, "load_average_end": os.getloadavg()[0], **_summary(rows)}
+    text = json.dumps(out, indent=1)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text + "\n")
+    if args.rows:
+        with open(args.rows, "w") as f:
+            json.dump(rows, f)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
