@@ -192,11 +192,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     from hapticsim.data.io import check_output_path, write_json
     from hapticsim.fitting import fit
     from hapticsim.fitting.kernels import start_background
+    from hapticsim.fitting.methods import SOLID_METHODS
 
     if args.out:
         check_output_path(args.out)  # before the fit, not after it
-    if args.uncertainty and args.method == "multi":
-        raise InvalidInputError("--uncertainty is for one superquadric, not for --method multi")
+    if args.uncertainty and args.method in SOLID_METHODS:
+        raise InvalidInputError(
+            f"--uncertainty is for one superquadric, not for --method {args.method}"
+        )
     if args.contact_sigma and args.method != "nML":
         raise InvalidInputError("--contact-sigma is for --method nML only")
     if (args.noise is not None or args.free_space) and args.method not in ("nML", "multi"):

@@ -23,7 +23,13 @@ from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_ve
 from hapticsim.fitting.kernels import prepare
 from hapticsim.fitting.least_squares import least_squares_run
 from hapticsim.fitting.likelihood import contact_weights, normal_ratio
-from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, HYBRID_METHODS, uses_normals
+from hapticsim.fitting.methods import (
+    DEFAULT_BUDGET,
+    FIT_METHODS,
+    HYBRID_METHODS,
+    SOLID_METHODS,
+    uses_normals,
+)
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult
@@ -81,7 +87,10 @@ def fit(
         method: ``"LS"``, ``"H"``, ``"nLS"`` or ``"nH"`` (SPEC §3), or ``"nML"``, the
             maximum-likelihood fit for noisy data (:mod:`hapticsim.fitting.ml`; needs normals),
             or ``"multi"``, a union of superquadrics (:mod:`hapticsim.fitting.multi`; needs
-            normals; its one-part candidate is nH with this budget and seed).
+            normals; its one-part candidate is nH with this budget and seed), or ``"gpis"``,
+            the zero level set of a Gaussian-process implicit surface as a mesh
+            (:mod:`hapticsim.fitting.gpis`, extra ``gpis``; needs normals; its ``superquadric``
+            is nH's fit with this budget and seed).
         budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
         rng: seed or generator of the genetic algorithm; the same seed gives the same result,
             bit for bit.
@@ -110,7 +119,8 @@ def fit(
             ``"auto"``/None (default) to choose up to
             :data:`~hapticsim.fitting.multi.MAX_PARTS` by the criterion.
         uncertainty: also compute the Laplace approximation of the estimate's uncertainty
-            (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi.
+            (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi
+            and gpis.
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -143,8 +153,10 @@ def fit(
             f"`noise` and `free` are for methods nML and multi only, got method {method}"
         )
     part_count = _parts_arg(parts, multi)
-    if uncertainty and multi:
-        raise InvalidInputError("`uncertainty` is for one superquadric, not for method multi")
+    if uncertainty and method in SOLID_METHODS:
+        raise InvalidInputError(
+            f"`uncertainty` is for one superquadric, not for method {method}"
+        )
     noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
     if options is not None and not isinstance(options, MLOptions):
@@ -173,6 +185,8 @@ def fit(
     if multi:
         return _fit_multi(pts, nrm, n_evals, gen, weight, warm, distance, noise_level, free_pts,
                           part_count, start)  # fmt: skip
+    if method == "gpis":
+        return _fit_gpis(pts, nrm, n_evals, gen, weight, warm, distance, start)
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
     run = None
@@ -274,6 +288,30 @@ def _fit_multi(
         solid=SuperquadricUnion(shapes),
         selection=selection,
     )
+
+
+def _fit_gpis(
+    pts: Array, nrm: Array, budget: int, gen: np.random.Generator, lam: float,
+    warm: Superquadric | None, distance: str, start: float,
+) -> FitResult:  # fmt: skip
+    """gpis: :func:`~hapticsim.fitting.gpis.fit_gpis`'s mesh, beside nH's one-part fit."""
+    from hapticsim.fitting.gpis import fit_gpis
+
+    surface = fit_gpis(pts, nrm)  # first: a missing scikit-image costs no nH fit
+    single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)
+    return FitResult(
+        superquadric=single.superquadric,
+        method="gpis",
+        eof=single.eof,
+        evaluations=single.evaluations,
+        seconds=time.perf_counter() - start,
+        history=single.history,
+        status=single.status,
+        message=(f"zero level set of a GPIS (length scale {1e3 * surface.length_scale:.1f} mm), "
+                 f"{len(surface.solid.faces)} faces"),
+        solid=surface.solid,
+        model=surface.to_dict(),
+    )  # fmt: skip
 
 
 _MESSAGES = {

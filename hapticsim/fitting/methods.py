@@ -10,9 +10,11 @@ name     data              minimiser
 =======  ================  ==========================================================
 
 Beyond the paper, :data:`FIT_METHODS` adds ``nML`` (points, normals, optionally free space): the
-hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.ml`), and
+hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.ml`),
 ``multi`` (points, normals): a union of 1..K superquadrics (:mod:`hapticsim.fitting.multi`,
-SPEC §10). The paper reproduction compares :data:`METHODS` only.
+SPEC §10), and ``gpis`` (points, normals): the field's Gaussian-process implicit surface, a mesh
+(:mod:`hapticsim.fitting.gpis`, extra ``gpis``). The paper reproduction compares :data:`METHODS`
+only.
 """
 
 from __future__ import annotations
@@ -20,9 +22,13 @@ from __future__ import annotations
 #: Method names, in the paper's order.
 METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
 #: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML and multi.
-FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi")
+FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi", "gpis")
 #: Methods whose objective uses the contact normals.
-NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi"})
+NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis"})
+#: Methods whose estimate is a solid other than one superquadric (a union, a mesh): their
+#: result's ``superquadric`` is nH's one-part fit with the same budget and seed, and they have
+#: no Laplace uncertainty.
+SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis"})
 #: Methods with the genetic algorithm.
 HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH", "nML"})
 #: Default evaluation budget of every method (EOF evaluations, SPEC §3). With the compiled
@@ -38,5 +44,5 @@ PAPER_BUDGET: int = 5000
 
 
 def uses_normals(method: str) -> bool:
-    """Whether `method` fits the normals too (nLS, nH, nML, multi)."""
+    """Whether `method` fits the normals too (nLS, nH, nML, multi, gpis)."""
     return method in NORMAL_METHODS

@@ -21,7 +21,8 @@ class FitResult:
     """A fitted superquadric (or union) and how it was found.
 
     Attributes:
-        superquadric: the estimate; for ``multi``, its one-part candidate (nH's fit).
+        superquadric: the estimate; for ``multi`` and ``gpis``, the one-part candidate
+            (nH's fit) beside the :attr:`solid`.
         method: the method name (one of :data:`hapticsim.fitting.methods.METHODS`).
         eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H).
         evaluations: EOF evaluations used (SPEC §3), <= the budget.
@@ -36,7 +37,7 @@ class FitResult:
         noise: nML only: the relative noise level sigma_N its weights used (given, or estimated
             from the residuals); None for the paper's methods.
         solid: the estimated solid (SPEC §10): the superquadric itself (default, None given),
-            or ``multi``'s union.
+            ``multi``'s union or ``gpis``'s mesh.
         selection: ``multi`` only: how the number of parts was chosen
             (:func:`hapticsim.fitting.multi.multi_search`), else None.
         setup_seconds: wall-clock time spent before the fit loading its compiled kernels from
@@ -44,6 +45,8 @@ class FitResult:
             (:func:`hapticsim.fitting.kernels.prepare`; 0 once a process has them).
         uncertainty: with ``fit(..., uncertainty=True)``, the Laplace approximation at the
             optimum (:class:`~hapticsim.fitting.uncertainty.Uncertainty`), else None.
+        model: ``gpis`` only: the Gaussian process's hyperparameters and the mesh's size
+            (:meth:`~hapticsim.fitting.gpis.GpisFit.to_dict`), else None.
     """
 
     superquadric: Superquadric
@@ -59,6 +62,7 @@ class FitResult:
     selection: dict[str, Any] | None = None
     setup_seconds: float = 0.0
     uncertainty: Any = None
+    model: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.superquadric, Superquadric):
@@ -88,13 +92,15 @@ class FitResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``,
         ``solid`` (SPEC §10: the superquadric again, or multi's union), ``status`` and
-        ``message``, ``setup_seconds``, ``noise`` for nML and ``selection`` for multi (the
-        history is left out: see :attr:`history`)."""
+        ``message``, ``setup_seconds``, ``noise`` for nML, ``selection`` for multi and ``model``
+        for gpis (the history is left out: see :attr:`history`)."""
         extra: dict[str, Any] = {} if self.noise is None else {"noise": float(self.noise)}
         if self.selection is not None:
             extra["selection"] = self.selection
         if self.uncertainty is not None:
             extra["uncertainty"] = self.uncertainty.to_dict()
+        if self.model is not None:
+            extra["model"] = self.model
         assert self.solid is not None
         return {
             "superquadric": self.superquadric.to_dict(),

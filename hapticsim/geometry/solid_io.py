@@ -1,5 +1,7 @@
-"""Reading any solid from its JSON: a superquadric (SPEC §6), a union (SPEC §10), or a fit
-result holding either (``"solid"`` beside ``"superquadric"``)."""
+"""Reading any solid from its JSON: a superquadric (SPEC §6), a union (SPEC §10), a closed
+triangle mesh (``{"mesh": {"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}}``, as
+:meth:`MeshSolid.to_dict` writes it: a GPIS estimate), or a fit result holding any of them
+(``"solid"`` beside ``"superquadric"``)."""
 
 from __future__ import annotations
 
@@ -13,16 +15,27 @@ from hapticsim.geometry.union import SuperquadricUnion
 
 
 def solid_from_dict(data: Any) -> Solid:
-    """The solid a JSON object describes: ``{"parts": [...]}`` a union, a fit result its
-    ``"solid"`` (or ``"superquadric"``), anything else a superquadric (SPEC §6's keys).
+    """The solid a JSON object describes: ``{"parts": [...]}`` a union, ``{"mesh": {...}}`` a
+    mesh, a fit result its ``"solid"`` (or ``"superquadric"``), anything else a superquadric
+    (SPEC §6's keys).
 
     Raises:
-        InvalidInputError: not a JSON object, or a malformed superquadric or union (named).
+        InvalidInputError: not a JSON object, or a malformed superquadric, union or mesh (named).
     """
     if isinstance(data, dict) and isinstance(data.get("solid"), dict):
         data = data["solid"]
     if isinstance(data, dict) and "parts" in data:
         return SuperquadricUnion.from_dict(data)
+    if isinstance(data, dict) and "mesh" in data:
+        mesh = data["mesh"]
+        if not (isinstance(mesh, dict) and {"vertices", "faces"} <= set(mesh)):
+            raise InvalidInputError(
+                'a mesh solid must be {"mesh": {"vertices": [[x, y, z], ...], "faces": '
+                "[[i, j, k], ...]}}"
+            )
+        from hapticsim.geometry.mesh_solid import MeshSolid
+
+        return MeshSolid(mesh["vertices"], mesh["faces"])
     if not isinstance(data, dict):
         raise InvalidInputError(
             f"a solid must be a JSON object (a superquadric or a union), got "

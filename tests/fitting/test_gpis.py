@@ -45,6 +45,36 @@ def test_gpis_bad_input(monkeypatch) -> None:  # noqa: ANN001
         fit_gpis(data.points, data.normals[:5])
     with pytest.raises(InvalidInputError, match="resolution"):
         fit_gpis(data.points, data.normals, resolution=4)
+    many = paper_dataset(BODIES["cube"], 0.0, rng=1, count=401)
+    with pytest.raises(InvalidInputError, match="at most 400 contacts"):
+        fit_gpis(many.points, many.normals)
     monkeypatch.setitem(sys.modules, "skimage.measure", None)
     with pytest.raises(InvalidInputError, match=r"hapticsim\[gpis\]"):
         fit_gpis(data.points, data.normals)
+
+
+def test_fit_method_gpis_is_a_mesh_beside_nh(tmp_path, capsys) -> None:  # noqa: ANN001
+    pytest.importorskip("skimage")
+    import json
+
+    from hapticsim.cli import main
+    from hapticsim.data.io import Contacts, write_contacts
+    from hapticsim.fitting import fit
+    from hapticsim.geometry.solid_io import solid_from_dict
+
+    data = paper_dataset(BODIES["ellipsoid"], 0.05, rng=1, count=40)
+    result = fit(data.points, data.normals, method="gpis", rng=3)
+    assert isinstance(result.solid, MeshSolid) and result.method == "gpis"
+    nh = fit(data.points, data.normals, method="nH", rng=3)
+    np.testing.assert_array_equal(result.superquadric.to_vector(), nh.superquadric.to_vector())
+    # the JSON's solid reads back as the same mesh, and scores as one
+    back = solid_from_dict(json.loads(json.dumps(result.to_dict())))
+    np.testing.assert_allclose(back.vertices, result.solid.vertices)
+    assert result.to_dict()["model"]["length_scale"] > 0
+    assert score(back, BODIES["ellipsoid"], rng=0).iou > 0.8  # measured 0.92 (fit_gpis above)
+    with pytest.raises(InvalidInputError, match="uncertainty"):
+        fit(data.points, data.normals, method="gpis", uncertainty=True)
+    path = write_contacts(tmp_path / "c.npz", Contacts(data.points, data.normals))
+    assert main(["fit", str(path), "--method", "gpis", "--seed", "3"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["method"] == "gpis" and "mesh" in printed["solid"]

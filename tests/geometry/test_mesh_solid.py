@@ -115,3 +115,17 @@ def test_inward_and_inconsistent_faces_are_refused() -> None:
 def test_bad_arrays_name_the_problem(vertices: object, faces: object, message: str) -> None:
     with pytest.raises(InvalidInputError, match=message):
         MeshSolid(vertices, faces)  # type: ignore[arg-type]
+
+
+def test_a_mesh_solid_reads_back_from_its_json() -> None:
+    import json
+
+    from hapticsim.geometry.solid_io import solid_from_dict
+
+    box = trimesh.creation.box((0.02, 0.03, 0.04))
+    solid = MeshSolid(np.asarray(box.vertices), np.asarray(box.faces))
+    back = solid_from_dict(json.loads(json.dumps({"solid": solid.to_dict()})))
+    assert isinstance(back, MeshSolid)
+    assert back.volume == pytest.approx(0.02 * 0.03 * 0.04, rel=1e-12)
+    with pytest.raises(InvalidInputError, match="mesh solid must be"):
+        solid_from_dict({"mesh": {"vertices": []}})
