@@ -13,7 +13,9 @@ from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
 
 #: Values of :attr:`FitResult.status`.
-STATUSES: tuple[str, ...] = ("converged", "budget", "stall", "generations", "target")
+STATUSES: tuple[str, ...] = (
+    "converged", "budget", "iterations", "stall", "generations", "target",
+)  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)
@@ -31,7 +33,9 @@ class FitResult:
             EOF (a population or a single vector), in the search's own metric (the EOF with the
             ``distance`` the fit searched with; without taper it equals the SPEC EOF).
         status: why the fit stopped, one of :data:`STATUSES`: ``"converged"`` (least squares
-            met its tolerances), ``"budget"`` (evaluations used up), or the genetic algorithm's
+            met its tolerances), ``"budget"`` (evaluations used up), ``"iterations"`` (least
+            squares reached its step limit, ``least_squares.MAX_ITERATIONS``), or the genetic
+            algorithm's
             ``"stall"``, ``"generations"``, ``"target"`` when nothing was left to polish.
         message: a sentence on the same.
         noise: nML only: the relative noise level sigma_N its weights used (given, or estimated

@@ -228,3 +228,15 @@ def test_cli_fit_bad_input_exits_2_with_one_line(
 
 def test_errors_are_hapticsim_errors() -> None:
     assert issubclass(InvalidInputError, HapticsimError)
+
+
+def test_a_least_squares_step_limit_is_a_status_not_an_error(monkeypatch) -> None:  # noqa: ANN001
+    # Least squares stops at MAX_ITERATIONS steps with the status "iterations"; the result
+    # must carry it (it raised "`status` must be one of ..." before).
+    from hapticsim.fitting import least_squares
+
+    monkeypatch.setattr(least_squares, "MAX_ITERATIONS", 2)
+    data = paper_dataset(get_body("cube"), 0.05, rng=0)
+    result = fit(data.points, data.normals, method="nLS")
+    assert result.status == "iterations"
+    assert result.message == "least-squares step limit reached"
