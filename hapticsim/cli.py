@@ -79,6 +79,8 @@ def _explore_epilog() -> str:
     rows += [
         ("uncertainty", "the environment's policy: touch where the current fit is least"
                         " supported by the contacts so far (refits after every touch)"),
+        ("information", "the environment's policy touching where a contact is expected to"
+                        " reduce the fit's posterior surface variance most"),
         ("learned", "the environment's shipped learned policy (learned:PATH: a weight file)"),
         ("random", "the environment's random touches"),
     ]

@@ -12,6 +12,9 @@ stroke length, finger count, budget), never the ground truth:
   estimate) lies farthest from every contact so far, then stroke towards the least supported
   neighbourhood. Before the first fit, a sphere around the rough position stands in for the
   estimate.
+- :class:`InformationPolicy`: the same candidates, scored by the expected information of a
+  contact under the estimate's Laplace posterior (the entropy drop of its parameters) instead
+  of the coverage gap.
 - :class:`LearnedPolicy`: a trained actor (:mod:`hapticsim.envs.learned`, numpy only) on the
   compact observation of ``HapticExploreCompact-v0``
   (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
@@ -45,7 +48,7 @@ Array = NDArray[np.float64]
 Observation = dict[str, np.ndarray]
 
 #: Names of the policies (:func:`make_policy`); ``"learned:PATH"`` names a weight file too.
-POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty", "learned")
+POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty", "information", "learned")
 #: Prefix of a policy name that gives a weight file: ``"learned:PATH"``.
 LEARNED_PREFIX: str = "learned:"
 #: The weight file of the shipped ``"learned"`` policy.
@@ -248,7 +251,7 @@ class UncertaintyPolicy(Policy):
         if not np.any(keep):
             keep = np.ones(len(cand.points), dtype=bool)
         approach, points = cand.approach[keep], cand.points[keep]
-        gap = _distance_to_set(points, contacts)
+        gap = self._score(points, contacts, estimate, obs)
         best = int(np.argmax(gap + 1e-9 * self.rng.random(len(gap))))
         p, d = points[best], approach[best]
 
@@ -260,10 +263,73 @@ class UncertaintyPolicy(Policy):
             np.cos(angles)[:, None] * t_h + np.sin(angles)[:, None] * t_v
         )
         ends = estimate.project(ends)
-        psi = float(angles[int(np.argmax(_distance_to_set(ends, contacts)))])
+        psi = float(angles[int(np.argmax(self._score(ends, contacts, estimate, obs)))])
         self._last, self._last_count = d, len(contacts)
         self._finger = (self._finger + 1) % self.n_fingers
         return self._action(d, psi, 1.0, self._finger)
+
+
+    def _score(
+        self, points: Array, contacts: Array, estimate: Superquadric, obs: Observation
+    ) -> Array:
+        """(k,) how much a contact at each predicted point is wanted: its distance to the
+        nearest contact so far [m] (the coverage gap)."""
+        return _distance_to_set(points, contacts)
+
+
+class InformationPolicy(UncertaintyPolicy):
+    """Touch where a contact is expected to tell the most about the shape.
+
+    As :class:`UncertaintyPolicy` (candidates, exclusions, stroke choice), but once the estimate
+    is fitted a candidate's score is the expected information of a contact there under the
+    estimate's Laplace posterior (computed from the contacts and normals in the observation by
+    :func:`~hapticsim.fitting.uncertainty.posterior_covariance`, with a broad prior,
+    :func:`~hapticsim.fitting.uncertainty.with_prior`): by default the expected drop of the
+    surface's positional variance
+    (:func:`~hapticsim.fitting.uncertainty.expected_surface_reduction`), or with
+    ``criterion="entropy"`` the entropy drop of the parameters
+    (:func:`~hapticsim.fitting.uncertainty.expected_information`), instead of its distance to
+    the contacts. Before the first fit, and while the contacts are fewer than 13,
+    it scores by the coverage gap as :class:`UncertaintyPolicy` does.
+    """
+
+    name = "information"
+    #: Scores of a candidate: ``"surface"``, the expected drop of the surface's positional
+    #: variance (:func:`~hapticsim.fitting.uncertainty.expected_surface_reduction`), or
+    #: ``"entropy"``, the expected information of all 13 parameters
+    #: (:func:`~hapticsim.fitting.uncertainty.expected_information`).
+    CRITERIA: tuple[str, ...] = ("surface", "entropy")
+
+    def __init__(
+        self, env: Any, rng: np.random.Generator | int | None = None, criterion: str = "surface",
+        **options: Any,
+    ) -> None:  # fmt: skip
+        super().__init__(env, rng, **options)
+        if criterion not in self.CRITERIA:
+            raise InvalidInputError(
+                f"`criterion` must be one of {self.CRITERIA}, got {criterion!r}"
+            )
+        self.criterion = criterion
+
+    def _score(
+        self, points: Array, contacts: Array, estimate: Superquadric, obs: Observation
+    ) -> Array:
+        from hapticsim.constants import DEFAULT_LAMBDA
+        from hapticsim.fitting.uncertainty import (
+            expected_information,
+            expected_surface_reduction,
+            posterior_covariance,
+            with_prior,
+        )
+
+        if not int(obs["fit_valid"][0]) or len(contacts) < 13:
+            return _distance_to_set(points, contacts)
+        normals = np.asarray(obs["normals"], dtype=np.float64)[np.asarray(obs["mask"], bool)]
+        cov, noise, _ = posterior_covariance(estimate, contacts, normals, DEFAULT_LAMBDA,
+                                             "tapered")  # fmt: skip
+        cov = with_prior(cov, float(np.mean(estimate.a)))
+        gain = expected_surface_reduction if self.criterion == "surface" else expected_information
+        return gain(estimate, cov, noise, points)
 
 
 def _distance_to_set(points: Array, contacts: Array) -> Array:
@@ -383,6 +449,7 @@ POLICIES: dict[str, type[Policy]] = {
     "random": RandomPolicy,
     "paper": PaperPolicy,
     "uncertainty": UncertaintyPolicy,
+    "information": InformationPolicy,
     "learned": LearnedPolicy,
 }
 

@@ -108,3 +108,27 @@ def test_comparison_runs_writes_and_reads_back(tmp_path) -> None:  # noqa: ANN00
         back.epsilon("uncertainty", "paper"), cmp.epsilon("uncertainty", "paper")
     )
     assert "| 3 |" in paths["md"].read_text()
+
+
+def test_information_policy_scores_by_the_posterior_once_fitted() -> None:
+    from hapticsim.envs.policies import InformationPolicy, observed_contacts
+
+    env = make(objects="paper")
+    policy = InformationPolicy(env, rng=0)
+    obs, _ = env.reset(seed=1)
+    policy.reset(0)
+    while not (int(obs["fit_valid"][0]) and int(obs["mask"].sum()) >= 13):
+        obs, *_ = env.step(policy(obs))
+    contacts = observed_contacts(obs, env.config.obs_scale)
+    estimate = policy._estimate(obs)
+    candidates = policy._candidates(estimate).points
+    surface = policy._score(candidates, contacts, estimate, obs)
+    entropy = InformationPolicy(env, criterion="entropy")._score(
+        candidates, contacts, estimate, obs
+    )
+    coverage = UncertaintyPolicy(env)._score(candidates, contacts, estimate, obs)
+    assert np.all(surface >= 0) and np.all(entropy >= 0)
+    # not the coverage gap in disguise: the three rank the candidates differently
+    assert np.argmax(surface) != np.argmax(coverage) or np.argmax(entropy) != np.argmax(coverage)
+    with pytest.raises(InvalidInputError, match="criterion"):
+        InformationPolicy(env, criterion="volume")
