@@ -12,7 +12,8 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.envs.haptic_explore_v0 import OBS_BOUND, HapticExploreConfig, HapticExploreEnv
+from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
+from hapticsim.envs.observation import OBS_BOUND
 from hapticsim.errors import InvalidInputError
 
 #: Pressure [Pa] that the observation's taxel images show as 1.

@@ -6,7 +6,6 @@ See :class:`HapticExploreEnv`.
 from __future__ import annotations
 
 import os
-import sys
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -16,25 +15,23 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.constants import EPS_MAX, EPS_MIN, SCORE_CHAMFER_POINTS, SCORE_SAMPLES
+from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.objects import ObjectDistribution, ObjectSet
+from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
-from hapticsim.envs.touch import ACTION_DIM, TouchBackend, TouchResult, decode_action
+from hapticsim.envs.touch import (
+    ACTION_DIM,
+    TouchResult,
+    decode_action,
+    make_backend,
+)
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid
+from hapticsim.metrics.coverage import coverage_uncertainty
 
 Array = NDArray[np.float64]
-
-# Headless Linux (no DISPLAY): render offscreen with EGL unless the user chose a GL backend.
-# MuJoCo reads MUJOCO_GL when it is first imported, so this must run before that.
-if (
-    sys.platform.startswith("linux")
-    and not os.environ.get("DISPLAY")
-    and "mujoco" not in sys.modules
-):
-    os.environ.setdefault("MUJOCO_GL", "egl")
 
 #: Backends that execute touches.
 BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
@@ -42,21 +39,6 @@ BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
-#: Bound of the scaled coordinates in the observation (points, fit); values are clipped to it.
-OBS_BOUND: float = 10.0
-#: Unit sphere directions on which the coverage uncertainty is evaluated.
-_N_COVERAGE: int = 256
-
-
-def fibonacci_sphere(n: int) -> Array:
-    """(n, 3) float, nearly uniform unit vectors (Fibonacci lattice), deterministic."""
-    i = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * i / n
-    r = np.sqrt(1.0 - z * z)
-    phi = np.pi * (1.0 + 5.0**0.5) * i
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-
-
 @dataclass(frozen=True)
 class HapticExploreConfig:
     """Everything that defines the environment (the keyword arguments of the constructor).
@@ -221,94 +203,6 @@ class StepTimings:
         return {"touch": self.touch, "fit": self.fit, "metrics": self.metrics, "step": self.step}
 
 
-def make_backend(config: HapticExploreConfig) -> TouchBackend:
-    """The touch backend named by ``config.backend``."""
-    if config.backend == "analytic":
-        from hapticsim.envs.analytic import AnalyticBackend
-
-        return AnalyticBackend(
-            noise=config.noise, support=config.support, stroke_spacing=config.stroke_spacing,
-            sensing=config.sensing, skin=config.skin,
-        )  # fmt: skip
-    from hapticsim.envs.mujoco_backend import MujocoBackend
-
-    return MujocoBackend(
-        noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand,
-        sensing=config.sensing, skin=config.skin,
-    )  # fmt: skip
-
-
-def encode_fit(estimate: Superquadric | None, origin: Array, scale: float) -> NDArray[np.float32]:
-    """The 13 normalised fit parameters of the observation (zeros without an estimate).
-
-    Order of :meth:`Superquadric.to_vector`: ``a / scale``, ``(eps - 1.05) / 0.95`` (so [0.1, 2]
-    maps to [-1, 1]), taper, ``rotvec / pi``, ``(center - origin) / scale``.
-
-    Args:
-        estimate: the fit, or None.
-        origin: (3,) float, the object-centred frame's origin [m, world].
-        scale: the observation's length scale [m].
-    """
-    if estimate is None:
-        return np.zeros(N_PARAMS, np.float32)
-    v = estimate.to_vector()
-    mid, half = 0.5 * (EPS_MAX + EPS_MIN), 0.5 * (EPS_MAX - EPS_MIN)
-    out = np.concatenate(
-        [
-            v[0:3] / scale,
-            (v[3:5] - mid) / half,
-            v[5:7],
-            v[7:10] / np.pi,
-            (v[10:13] - origin) / scale,
-        ]
-    )
-    return np.clip(out, -OBS_BOUND, OBS_BOUND).astype(np.float32)
-
-
-def decode_fit(fit_obs: Any, scale: float) -> Superquadric:
-    """The estimate, in the object-centred frame, from the observation's ``"fit"`` entry.
-
-    Args:
-        fit_obs: (13,) float, as made by :func:`encode_fit`.
-        scale: the observation's length scale [m] (``config.obs_scale``).
-
-    Returns:
-        the superquadric with its centre relative to the object-centred frame's origin [m].
-    """
-    v = np.asarray(fit_obs, dtype=np.float64)
-    mid, half = 0.5 * (EPS_MAX + EPS_MIN), 0.5 * (EPS_MAX - EPS_MIN)
-    vec = np.concatenate(
-        [np.maximum(v[0:3] * scale, 1e-6), np.clip(v[3:5] * half + mid, EPS_MIN, EPS_MAX),
-         np.clip(v[5:7], -1, 1), v[7:10] * np.pi, v[10:13] * scale]
-    )  # fmt: skip
-    return Superquadric.from_vector(vec)
-
-
-def coverage_uncertainty(estimate: Superquadric | None, points: Array) -> float:
-    """How much of the estimate's surface no contact supports, in [0, 1] (no ground truth).
-
-    Surface points of the estimate in 256 fixed directions (uniform parametrisation) each count
-    ``min(1, d / r)``, d the distance to the nearest contact and ``r = mean(a)`` of the estimate;
-    the result is their mean. 1 without an estimate.
-
-    Args:
-        estimate: the current fit or None.
-        points: (n, 3) float, contacts [m, world].
-    """
-    if estimate is None or len(points) == 0:
-        return 1.0
-    surf = _coverage_surface(estimate)
-    d2 = np.min(np.sum((surf[:, None, :] - points[None, :, :]) ** 2, axis=-1), axis=1)
-    return float(np.mean(np.minimum(1.0, np.sqrt(d2) / float(np.mean(estimate.a)))))
-
-
-def _coverage_surface(estimate: Superquadric) -> Array:
-    dirs = fibonacci_sphere(_N_COVERAGE)
-    eta = np.arcsin(np.clip(dirs[:, 2], -1, 1))
-    omega = np.arctan2(dirs[:, 1], dirs[:, 0])
-    return estimate.surface(eta, omega)[0]
-
-
 class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     """Haptic exploration of one object: each step is one touch, the goal a good superquadric.
 
@@ -363,7 +257,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | touches    | (1,)    | touches made so far, in [0, touch_budget]                | count  |
 
     Scaled values are clipped to [-10, 10]. The observation never holds the ground truth;
-    :func:`decode_fit` turns ``fit`` back into a :class:`~hapticsim.geometry.Superquadric`.
+    :func:`~hapticsim.envs.observation.decode_fit` turns ``fit`` back into a
+    :class:`~hapticsim.geometry.Superquadric`.
 
     ## Rewards
 
@@ -371,8 +266,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
       available on a robot): ``epsilon_{t-1} - epsilon_t``, epsilon = alpha + beta of the
       estimate against the truth (SPEC §4); epsilon = 1 while there is no estimate (all of the
       object missed), so an episode's return is ``1 - epsilon_final``.
-    - ``"uncertainty"``: ``U_{t-1} - U_t``, U the :func:`coverage_uncertainty` of the estimate
-      (1 without one); no ground truth.
+    - ``"uncertainty"``: ``U_{t-1} - U_t``, U the
+      :func:`~hapticsim.metrics.coverage.coverage_uncertainty` of the estimate (1 without one);
+      no ground truth.
     - ``"eof"``: ``e_{t-1} - e_t``, ``e = min(1, sqrt(EOF) / mean(a))`` of the estimate (1 without
       one); no ground truth, but it rewards touching where the fit is already good.
 

@@ -16,17 +16,13 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.envs.haptic_explore_v0 import (
-    OBS_BOUND,
-    HapticExploreConfig,
-    HapticExploreEnv,
-    decode_fit,
-    fibonacci_sphere,
-)
+from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
+from hapticsim.envs.observation import OBS_BOUND, decode_fit
 from hapticsim.envs.touch import encode_touch
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.rays import raycast_many
+from hapticsim.geometry.sampling import fibonacci_sphere
 
 Array = NDArray[np.float64]
 
@@ -75,7 +71,7 @@ def estimate_from_observation(
 ) -> Superquadric:
     """The current estimate in the object-centred frame, or a stand-in sphere before a fit.
 
-    The fit decoded from a v0 observation (:func:`~hapticsim.envs.haptic_explore_v0.decode_fit`);
+    The fit decoded from a v0 observation (:func:`~hapticsim.envs.observation.decode_fit`);
     without a valid fit, a sphere about the rough position of radius `initial_radius`, or the
     contacts' mean distance from it (at least a quarter of `initial_radius`) once there are some.
 
@@ -131,7 +127,7 @@ class CompactObserver:
     ``min(1, d / r)``, d the distance [m] from that predicted contact to the nearest contact so
     far and ``r`` the estimate's mean semi-axis; 1 without contacts, 0 where the ray misses the
     estimate. This is the per-direction form of the ``uncertainty`` baseline's criterion and of
-    v0's :func:`~hapticsim.envs.haptic_explore_v0.coverage_uncertainty`; the widest gap's
+    v0's :func:`~hapticsim.metrics.coverage.coverage_uncertainty`; the widest gap's
     direction summarises it (touching there is that baseline's choice restricted to the 32
     directions, with a fixed stroke: the learner may follow it, or not). Nothing here uses the
     ground truth.

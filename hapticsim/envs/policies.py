@@ -37,12 +37,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import did_you_mean
-from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv, fibonacci_sphere
+from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.touch import encode_touch, tangent_frame
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast_many
+from hapticsim.geometry.sampling import fibonacci_sphere
 
 Array = NDArray[np.float64]
 Observation = dict[str, np.ndarray]

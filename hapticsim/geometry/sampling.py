@@ -12,6 +12,9 @@ surface points, and the fine surface mesh the Chamfer distance measures against.
   triangles, among those of the 4 nearest centroids); one per (superquadric, resolution) is
   kept (:func:`surface_mesh_of`).
 
+- :func:`fibonacci_sphere`: nearly uniform fixed unit directions (approach and coverage
+  directions).
+
 Used by :class:`~hapticsim.geometry.superquadric.Superquadric`'s sampling methods.
 """
 
@@ -211,7 +214,17 @@ def surface_mesh_of(sq: Any, resolution: int) -> SurfaceMesh:
     return mesh
 
 
+def fibonacci_sphere(n: int) -> Array:
+    """(n, 3) float, nearly uniform unit vectors (Fibonacci lattice), deterministic."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r = np.sqrt(1.0 - z * z)
+    phi = np.pi * (1.0 + 5.0**0.5) * i
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
 __all__ = [
+    "fibonacci_sphere",
     "AREA_STEP",
     "CANDIDATES_PER_SAMPLE",
     "FOOT_ITERATIONS",

@@ -8,10 +8,14 @@
 - :mod:`~hapticsim.sim.strategies`: named strategies (``patch``, ``stripe``, ``sweep``,
   ``paper``).
 
-``MUJOCO_GL`` defaults to ``egl`` (headless rendering) before mujoco is imported.
-Nothing below ``sim`` imports mujoco.
+On headless Linux (no ``DISPLAY``) ``MUJOCO_GL`` defaults to ``egl`` (offscreen rendering)
+unless the user chose a GL backend: the one place that decides it. MuJoCo reads it when it is
+first imported, which every module of the package does through ``sim`` (importing this package
+first). Nothing below ``sim`` imports mujoco.
 """
 
 import os
+import sys
 
-os.environ.setdefault("MUJOCO_GL", "egl")
+if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+    os.environ.setdefault("MUJOCO_GL", "egl")

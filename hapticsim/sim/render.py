@@ -1,6 +1,7 @@
 """Offscreen pictures of a scene with MuJoCo's renderer (``MUJOCO_GL=egl``, headless).
 
-``hapticsim.sim`` sets ``MUJOCO_GL=egl`` (unless set) before importing mujoco.
+``hapticsim.sim`` sets ``MUJOCO_GL=egl`` on headless Linux (unless set) before mujoco is
+imported.
 """
 
 from __future__ import annotations

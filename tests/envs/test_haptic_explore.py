@@ -8,16 +8,12 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from hapticsim.envs.estimator import FitSchedule
-from hapticsim.envs.haptic_explore_v0 import (
-    HapticExploreConfig,
-    HapticExploreEnv,
-    coverage_uncertainty,
-    decode_fit,
-    encode_fit,
-)
+from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
+from hapticsim.envs.observation import decode_fit, encode_fit
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.metrics.coverage import coverage_uncertainty
 
 #: Small fit budgets keep the tests fast; the contract does not depend on them.
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
