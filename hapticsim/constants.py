@@ -34,3 +34,6 @@ MAX_RUNS: int = 100_000
 #: RMS error of epsilon 0.0032 and of the Chamfer distance 1.2 % (docs/fast-loop).
 SCORE_SAMPLES: int = 4096
 SCORE_CHAMFER_POINTS: int = 128
+#: Fingertip radius [m] of hapticsim's own hand (``models/hand.xml``, class ``tip``): its MuJoCo
+#: fingertips, the analytic backend's tactile pads and the support's clearance.
+FINGERTIP_RADIUS: float = 0.008

@@ -116,7 +116,7 @@ def _truth(shape: str, seed: int) -> Any:
 
 def _contacts(family: str, truth: Any, noise: float, seed: int, count: int) -> Any:
     from hapticsim.data.noise import add_noise
-    from hapticsim.data.patterns import render
+    from hapticsim.data.patterns import sample_patterns
     from hapticsim.data.synthetic import paper_dataset
 
     pattern = family
@@ -126,7 +126,7 @@ def _contacts(family: str, truth: Any, noise: float, seed: int, count: int) -> A
         data = paper_dataset(truth, noise=noise, rng=seed + 7919, count=count)
         return data.points, data.normals
     gen = np.random.default_rng(seed + 7919)
-    points, normals, _ = render(truth, _patterns(pattern, count), gen)
+    points, normals, _ = sample_patterns(truth, _patterns(pattern, count), gen)
     return add_noise(points, normals, noise, float(np.mean(truth.a)), gen)
 
 

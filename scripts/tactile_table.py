@@ -79,7 +79,7 @@ def _contact_errors(
     truth: Any, points: np.ndarray, normals: np.ndarray, tolerance: float = 1e-6
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per contact: the distance [m] from the true surface and the normal's angle [rad] against
-    the true normal there (sim/accuracy.py's, as contact_accuracy reports them; on a mesh,
+    the true normal there (metrics/accuracy.py's, as contact_accuracy reports them; on a mesh,
     against the normal cone of an edge or vertex within `tolerance` [m])."""
     from hapticsim.geometry import MeshSolid
 
@@ -92,7 +92,7 @@ def _contact_errors(
 
 def _task(task: tuple[str, str, str, str, int, str, str]) -> dict[str, Any]:
     """One exploration and its fits."""
-    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.session import run_exploration
 

@@ -12,7 +12,7 @@
 from hapticsim.data.bodies import BODY_NAMES, get_body, resolve_body
 from hapticsim.data.io import Contacts, read_contacts, write_contacts
 from hapticsim.data.noise import add_noise
-from hapticsim.data.patterns import Patch, Stripe, render
+from hapticsim.data.patterns import Patch, Stripe, sample_patterns
 from hapticsim.data.synthetic import paper_dataset, paper_patterns
 
 __all__ = [
@@ -25,7 +25,7 @@ __all__ = [
     "paper_dataset",
     "paper_patterns",
     "read_contacts",
-    "render",
     "resolve_body",
+    "sample_patterns",
     "write_contacts",
 ]

@@ -148,7 +148,7 @@ class Patch(_Pattern):
 Pattern = Stripe | Patch
 
 
-def render(
+def sample_patterns(
     sq: Superquadric, patterns: Sequence[Pattern], rng: np.random.Generator | int | None = None
 ) -> tuple[Array, Array, NDArray[np.int64]]:
     """Render several patterns on `sq` and merge them into one data set, in pattern order.
@@ -183,4 +183,4 @@ def render(
     return np.concatenate(points), np.concatenate(normals), np.concatenate(ids)
 
 
-__all__ = ["ETA_MAX", "OMEGA_MAX", "Patch", "Pattern", "Stripe", "render"]
+__all__ = ["ETA_MAX", "OMEGA_MAX", "Patch", "Pattern", "Stripe", "sample_patterns"]

@@ -36,7 +36,7 @@ from hapticsim._validate import as_generator, finite_float, positive_int
 from hapticsim.constants import MAX_CONTACTS
 from hapticsim.data.io import Contacts
 from hapticsim.data.noise import add_noise
-from hapticsim.data.patterns import Patch, Pattern, Stripe, render
+from hapticsim.data.patterns import Patch, Pattern, Stripe, sample_patterns
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.superquadric import superquadric_arg
@@ -138,7 +138,7 @@ def paper_dataset(
         )
     patterns = [p for _, p in paper_patterns(truth, count)]
     gen = as_generator(rng)
-    points_clean, normals_clean, pattern = render(truth, patterns, gen)
+    points_clean, normals_clean, pattern = sample_patterns(truth, patterns, gen)
     points, normals = add_noise(points_clean, normals_clean, sigma, float(np.mean(truth.a)), gen)
     return Contacts(
         points=points,
@@ -196,7 +196,7 @@ def synthetic_dataset(
             if c < 1:
                 continue
             patterns = [p for _, p in paper_patterns(part, max(c, MIN_COUNT))]
-            pts, nrm, pat = render(part, patterns, gen)
+            pts, nrm, pat = sample_patterns(part, patterns, gen)
             keep = np.ones(len(pts), dtype=bool)
             for j, other in enumerate(parts):
                 if j != k:

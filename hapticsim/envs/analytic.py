@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
+from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
@@ -51,8 +52,6 @@ Array = NDArray[np.float64]
 
 #: Fingers of the analytic hand (the MuJoCo hand's count when it is available).
 DEFAULT_FINGERS: int = 4
-#: Fingertip radius [m] of the analytic hand's tactile pads (hapticsim's hand's).
-TIP_RADIUS: float = 0.008
 #: Rays from inside a stroke's section that sample its curve.
 _SECTION_RAYS: int = 160
 
@@ -199,9 +198,9 @@ class AnalyticBackend(SupportedBackend):
         self._pattern = None
         if self.skin is not None:
             rows, cols, pitch = DEFAULT_PAD_GRID
-            pad = PadLayout(rows, cols, pitch, TIP_RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])
+            pad = PadLayout(rows, cols, pitch, FINGERTIP_RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])
             self.pad = pad if self.skin.pitch is None else pad.resampled(self.skin.pitch)
-            self._penetration = self.skin.skin.sphere_penetration(TIP_RADIUS, PROBE_FORCE)
+            self._penetration = self.skin.skin.sphere_penetration(FINGERTIP_RADIUS, PROBE_FORCE)
 
     @property
     def pad_shape(self) -> tuple[int, int, int]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
 
@@ -23,8 +24,6 @@ Array = NDArray[np.float64]
 SUPPORTS: tuple[str, ...] = ("stand", "table", "none")
 #: Largest radius of the stand [m]; thinner under small objects (as in ``hapticsim.sim.scene``).
 STAND_RADIUS: float = 0.008
-#: Fingertip radius [m] (``models/hand.xml``, class ``tip``).
-TIP_RADIUS: float = 0.008
 
 
 @dataclass(frozen=True)
@@ -42,7 +41,7 @@ class Support:
     kind: str
     foot: Array
     radius: float = STAND_RADIUS
-    clearance: float = TIP_RADIUS
+    clearance: float = FINGERTIP_RADIUS
 
     def __post_init__(self) -> None:
         if self.kind not in SUPPORTS:

@@ -199,7 +199,7 @@ def _explore(
     from hapticsim.fitting.ml import MLOptions
     from hapticsim.geometry import Superquadric
     from hapticsim.metrics import score, theta
-    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.free_space import near_contacts
     from hapticsim.sim.hand_trace import HandTrace
     from hapticsim.sim.session import run_exploration

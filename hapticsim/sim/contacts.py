@@ -68,7 +68,7 @@ class ContactState:
     table: int
 
 
-def read_contacts(
+def fingertip_contacts(
     model: mujoco.MjModel,
     data: mujoco.MjData,
     hand: Hand,
@@ -139,4 +139,4 @@ def read_contacts(
     return ContactState(tuple(best), other, table)
 
 
-__all__ = ["ContactState", "FingertipContact", "read_contacts"]
+__all__ = ["ContactState", "FingertipContact", "fingertip_contacts"]

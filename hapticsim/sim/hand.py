@@ -31,6 +31,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.errors import InvalidInputError
 from hapticsim.sim.hand_description import (
     POSTURE_NAMES,
@@ -50,7 +51,7 @@ MOUNT_BODY: str = PREFIX + "mount"
 #: Stiffness of the weld that pulls the mount onto the mocap (time constant [s], damping ratio).
 WELD_SOLREF: tuple[float, float] = (0.008, 1.0)
 #: Fingertip radius [m] of hapticsim's own hand (``models/hand.xml``, class ``tip``).
-TIP_RADIUS: float = 0.008
+TIP_RADIUS: float = FINGERTIP_RADIUS
 #: Contact filter of hand geoms (collide with contype-1 objects only, never with each other).
 HAND_CONTYPE, HAND_CONAFFINITY = 2, 1
 #: Margin and gap [m] of added fingertip spheres (contacts reported within 1 mm, active at 0).

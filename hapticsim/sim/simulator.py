@@ -9,7 +9,7 @@ The simulator runs at a control rate of ``1 / (control_steps * timestep)``. Each
 3. steps the physics ``control_steps`` times and checks for instability (``mjWARN_BADQACC``,
    ``BADQVEL``, ``BADQPOS`` -- after which MuJoCo silently resets the state -- or a non-finite
    state), raising :class:`~hapticsim.errors.SimulationError`,
-4. reads the fingertip contacts (:func:`~hapticsim.sim.contacts.read_contacts`).
+4. reads the fingertip contacts (:func:`~hapticsim.sim.contacts.fingertip_contacts`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_array, positive_fields, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.sim._vec import norm
-from hapticsim.sim.contacts import ContactState, read_contacts
+from hapticsim.sim.contacts import ContactState, fingertip_contacts
 from hapticsim.sim.dls import dls_step
 from hapticsim.sim.mujoco_log import take_last_warning
 from hapticsim.sim.scene import Scene
@@ -147,7 +147,7 @@ class Simulator:
         after a tick that did not read them)."""
         if self._contacts_stale:
             object_id = self.scene.object_geom_ids
-            self._contacts = read_contacts(
+            self._contacts = fingertip_contacts(
                 self.model, self.data, self.hand, object_id, self._skin_force
             )
             self._contacts_stale = False
@@ -174,7 +174,7 @@ class Simulator:
         mujoco.mj_resetData(self.model, self.data)
         self.steps = 0
         self.place(palm_world, palm_rot_world, postures)
-        self._contacts = read_contacts(
+        self._contacts = fingertip_contacts(
             self.model, self.data, self.hand, self.scene.object_geom_ids, self._skin_force
         )
         self._contacts_stale = False

@@ -201,7 +201,7 @@ def _run_explore(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, An
     from hapticsim.data.bodies import get_body
     from hapticsim.data.noise import add_noise
     from hapticsim.fitting.methods import uses_normals
-    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
 
     p = case.params
@@ -303,7 +303,7 @@ def _object_truth(name: str, rng: np.random.Generator) -> Any:
 def _run_objects(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
     from hapticsim.data.noise import add_noise
     from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
-    from hapticsim.sim.accuracy import contact_accuracy
+    from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
 
     p = case.params

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hapticsim.data.patterns import Patch, Stripe, render
+from hapticsim.data.patterns import Patch, Stripe, sample_patterns
 from hapticsim.errors import HapticsimError
 from hapticsim.geometry import Superquadric
 from tests.core_helpers import random_superquadric
@@ -39,7 +39,7 @@ def test_patterns_lie_on_the_surface_with_the_truth_normals() -> None:
     for _ in range(20):
         sq = random_superquadric(rng)
         patterns = [Stripe((-1.2, -2.0), (1.3, 2.5), 30), Patch((-1.5, 1.5), (-3.0, 6.0), 40)]
-        points, normals, ids = render(sq, patterns, rng)
+        points, normals, ids = sample_patterns(sq, patterns, rng)
         assert points.shape == (70, 3) and normals.shape == (70, 3)
         assert ids.tolist() == [0] * 30 + [1] * 40
         np.testing.assert_allclose(sq.inside_outside(points), 1.0, atol=1e-12)
@@ -75,10 +75,11 @@ def test_pattern_directions_are_in_the_body_frame() -> None:
         (lambda: Patch((0.0, 0.1), (0.0, 1.0), -1), "count"),
         (lambda: Patch((0.0, 0.1), (0.0, 1.0), 3).angles(rng=-1), "rng"),
         (lambda: Patch((0.0, 0.1), (0.0, 1.0), 3).sample("cube"), "sq"),
-        (lambda: render("cube", [Stripe((0, 0), (0, 0), 1)]), "sq"),
-        (lambda: render(Superquadric((1, 1, 1), (1, 1)), []), "patterns"),
-        (lambda: render(Superquadric((1, 1, 1), (1, 1)), Stripe((0, 0), (0, 0), 1)), "patterns"),
-        (lambda: render(Superquadric((1, 1, 1), (1, 1)), [object()]), "patterns[0]"),
+        (lambda: sample_patterns("cube", [Stripe((0, 0), (0, 0), 1)]), "sq"),
+        (lambda: sample_patterns(Superquadric((1, 1, 1), (1, 1)), []), "patterns"),
+        (lambda: sample_patterns(Superquadric((1, 1, 1), (1, 1)), Stripe((0, 0), (0, 0), 1)),
+         "patterns"),
+        (lambda: sample_patterns(Superquadric((1, 1, 1), (1, 1)), [object()]), "patterns[0]"),
     ],
 )
 def test_bad_input_raises_naming_the_argument(make, name: str) -> None:

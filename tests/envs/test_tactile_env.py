@@ -12,7 +12,7 @@ import hapticsim  # noqa: F401  (registers the environments)
 from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.errors import InvalidInputError
-from hapticsim.sim.accuracy import contact_accuracy
+from hapticsim.metrics.accuracy import contact_accuracy
 
 TACTILE_ID = "hapticsim/HapticExploreTactile-v0"
 

@@ -215,7 +215,7 @@ def _one_sided_cube(seed: int) -> tuple[Superquadric, np.ndarray, np.ndarray]:
     """A 4 cm cube touched on its +x half only (a corner patch, stripes over the +x face's
     edges): the -x face is never touched; sigma_N = 0.1."""
     from hapticsim.data.noise import add_noise
-    from hapticsim.data.patterns import Patch, Stripe, render
+    from hapticsim.data.patterns import Patch, Stripe, sample_patterns
 
     d, corner = np.pi / 180, float(np.arctan(1 / np.sqrt(2)))
     patterns = [
@@ -227,7 +227,7 @@ def _one_sided_cube(seed: int) -> tuple[Superquadric, np.ndarray, np.ndarray]:
     ]
     truth = Superquadric(a=(0.04, 0.04, 0.04), eps=(0.1, 0.1))
     gen = np.random.default_rng(seed)
-    points, normals, _ = render(truth, patterns, gen)
+    points, normals, _ = sample_patterns(truth, patterns, gen)
     return (truth, *add_noise(points, normals, 0.1, 0.04, gen))
 
 

@@ -14,7 +14,7 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.sim.accuracy import contact_accuracy
+from hapticsim.metrics.accuracy import contact_accuracy
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.hand_description import (

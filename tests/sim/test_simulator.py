@@ -7,7 +7,7 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.sim.contacts import read_contacts
+from hapticsim.sim.contacts import fingertip_contacts
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
@@ -34,7 +34,7 @@ def test_contacts_after_a_tick_without_reading_are_read_on_demand(explorer) -> N
         sim.tick(read=False)
     assert sim.tick(read=False) is None
     lazy = sim.contacts
-    fresh = read_contacts(sim.model, sim.data, sim.hand, sim.scene.object_geom_id)
+    fresh = fingertip_contacts(sim.model, sim.data, sim.hand, sim.scene.object_geom_id)
     assert lazy.tips[1] is not None and fresh.tips[1] is not None
     np.testing.assert_array_equal(lazy.tips[1].point_world, fresh.tips[1].point_world)
     assert lazy.tips[1].force == fresh.tips[1].force

@@ -17,7 +17,7 @@ from hapticsim.data import get_body
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rotations import rotvec_to_matrix
-from hapticsim.sim.accuracy import contact_accuracy
+from hapticsim.metrics.accuracy import contact_accuracy
 from hapticsim.sim.hand_description import HandDescriptionError, load_hand
 from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.session import run_exploration

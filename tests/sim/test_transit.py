@@ -10,7 +10,7 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.sim.accuracy import contact_accuracy
+from hapticsim.metrics.accuracy import contact_accuracy
 from hapticsim.sim.explorer import ExplorerConfig
 from hapticsim.sim.scene import build_scene
 from hapticsim.sim.session import run_exploration
