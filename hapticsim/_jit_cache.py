@@ -27,14 +27,18 @@ COMPILED: tuple[str, ...] = (
     "fitting/_ga_compiled.py",
     "geometry/_sampling_compiled.py",
 )
+#: Modules whose constants the kernels fold into their machine code (the parameter layout,
+#: tolerances): a change there makes the cached code stale too.
+FOLDED: tuple[str, ...] = ("geometry/layout.py", "constants.py")
 _STAMP = "hapticsim-jit-sources.sha256"
 _checked = False
 
 
 def fingerprint() -> str:
-    """SHA-256 of the compiled modules' sources (missing files count as empty)."""
+    """SHA-256 of the compiled modules' sources and of the modules whose constants they fold
+    in (missing files count as empty)."""
     digest = hashlib.sha256()
-    for name in COMPILED:
+    for name in COMPILED + FOLDED:
         path = _PACKAGE / name
         digest.update(name.encode())
         digest.update(path.read_bytes() if path.is_file() else b"")

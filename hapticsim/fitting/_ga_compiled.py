@@ -16,11 +16,11 @@ from numba import njit
 
 from hapticsim.geometry._eof_compiled import (
     JIT,
-    NP,
     problem_residuals_posed,
     residual_length,
     vector_fields,
 )
+from hapticsim.geometry.layout import I_A, I_CENTER, I_EPS, I_TAPER, N_PARAMS
 
 #: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
 STATUS_BUDGET, STATUS_GENERATIONS, STATUS_TARGET, STATUS_STALL = 0, 1, 2, 3
@@ -100,12 +100,12 @@ def align(
             )
         if score > best_score:
             best, best_score = s, score
-    for k in range(NP):
+    for k in range(N_PARAMS):
         out_genes[k] = genes[k]
     for k in range(3):
-        out_genes[k] = genes[sym_a[best, k]]
+        out_genes[I_A + k] = genes[I_A + sym_a[best, k]]
     for k in range(2):
-        out_genes[5 + k] = genes[5 + sym_t[best, k]] * sym_sign[best]
+        out_genes[I_TAPER + k] = genes[I_TAPER + sym_t[best, k]] * sym_sign[best]
     for i in range(3):
         col, val = sym_idx[best, i], sym_val[best, i]
         for j in range(3):
@@ -127,13 +127,14 @@ def solid_distance(
     cos = min(max(cos / 2.0, -1.0), 1.0)
     d_a = 0.0
     for k in range(3):
-        d_a += abs(math.log(aligned[k] / other[k]))
+        d_a += abs(math.log(aligned[I_A + k] / other[I_A + k]))
     d_c = math.sqrt(
-        (aligned[10] - other[10]) ** 2 + (aligned[11] - other[11]) ** 2
-        + (aligned[12] - other[12]) ** 2
+        (aligned[I_CENTER] - other[I_CENTER]) ** 2
+        + (aligned[I_CENTER + 1] - other[I_CENTER + 1]) ** 2
+        + (aligned[I_CENTER + 2] - other[I_CENTER + 2]) ** 2
     )  # fmt: skip
     d_s = 0.0
-    for k in range(3, 7):
+    for k in range(I_EPS, I_TAPER + 2):  # exponents and tapers
         d_s += abs(aligned[k] - other[k])
     return math.acos(cos) / 0.5 + d_a / 0.3 + d_c / (0.2 * size) + d_s / 0.5
 
@@ -143,10 +144,12 @@ def distance_bound(genes: np.ndarray, other: np.ndarray, size: float) -> float:
     """A lower bound of :func:`solid_distance` from its terms that no re-parametrisation changes
     (the centre and the shape exponents): no alignment needed."""
     d_c = math.sqrt(
-        (genes[10] - other[10]) ** 2 + (genes[11] - other[11]) ** 2
-        + (genes[12] - other[12]) ** 2
+        (genes[I_CENTER] - other[I_CENTER]) ** 2
+        + (genes[I_CENTER + 1] - other[I_CENTER + 1]) ** 2
+        + (genes[I_CENTER + 2] - other[I_CENTER + 2]) ** 2
     )  # fmt: skip
-    return d_c / (0.2 * size) + (abs(genes[3] - other[3]) + abs(genes[4] - other[4])) / 0.5
+    return d_c / (0.2 * size) + (
+        abs(genes[I_EPS] - other[I_EPS]) + abs(genes[I_EPS + 1] - other[I_EPS + 1])) / 0.5
 
 
 @njit(**JIT)
@@ -200,13 +203,13 @@ def offspring(
     angle, centre (see :class:`~hapticsim.fitting.genetic.GeneticOptions`).
     """
     tournament = int(settings[0])
-    p2 = np.empty(NP)
+    p2 = np.empty(N_PARAMS)
     r2 = np.empty((3, 3))
     blend = np.empty((3, 3))
     turn = np.empty((3, 3))
     tmp = np.empty((3, 3))
     axis = np.empty(3)
-    w = np.empty(NP)
+    w = np.empty(N_PARAMS)
     for c in range(count):
         first = _tournament(rng, eof, tournament)
         second = _tournament(rng, eof, tournament)
@@ -214,9 +217,9 @@ def offspring(
         align(r1, rot[second], genes[second], p2, r2, *tables)
         child, crot = kids[c], kid_rot[c]
         if rng.random() < settings[1]:
-            for k in range(NP):
+            for k in range(N_PARAMS):
                 w[k] = -0.25 + 1.5 * rng.random()
-            for k in range(NP):
+            for k in range(N_PARAMS):
                 child[k] = p1[k] + w[k] * (p2[k] - p1[k])
             for k in range(3):  # geometric blend of the semi-axes
                 child[k] = p1[k] * (p2[k] / p1[k]) ** w[k]
@@ -225,7 +228,7 @@ def offspring(
                     blend[i, j] = r1[i, j] + w[7] * (r2[i, j] - r1[i, j])
             _orthonormalise(blend, crot)
         else:
-            for k in range(NP):
+            for k in range(N_PARAMS):
                 child[k] = p1[k]
             for i in range(3):
                 for j in range(3):
@@ -263,7 +266,7 @@ def offspring(
                 child[k] = old[JUMP_PERM[which, k]]
             child[5] = 0.0
             child[6] = 0.0
-        for k in range(NP):
+        for k in range(N_PARAMS):
             child[k] = min(max(child[k], lower[k]), upper[k])
 
 
@@ -299,7 +302,7 @@ def _put(
     genes: np.ndarray, rot: np.ndarray, i: int, src_genes: np.ndarray, src_rot: np.ndarray, j: int
 ) -> None:
     """Row i of genes (P, 13) and rot (P, 3, 3) := row j of the sources."""
-    for k in range(NP):
+    for k in range(N_PARAMS):
         genes[i, k] = src_genes[j, k]
     for a in range(3):
         for b in range(3):
@@ -312,7 +315,8 @@ def _gather(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``genes[order], rot[order], eof[order]`` (new arrays)."""
     count = order.shape[0]
-    out_genes, out_rot, out_eof = np.empty((count, NP)), np.empty((count, 3, 3)), np.empty(count)
+    out_genes, out_rot = np.empty((count, N_PARAMS)), np.empty((count, 3, 3))
+    out_eof = np.empty(count)
     for i in range(count):
         _put(out_genes, out_rot, i, genes, rot, order[i])
         out_eof[i] = eof[order[i]]
@@ -368,7 +372,7 @@ def ga_run(
     total = k
     if 0 < k < n:
         total = min(n, cap)
-    genes = np.empty((total, NP))
+    genes = np.empty((total, N_PARAMS))
     rot = np.empty((total, 3, 3))
     for i in range(k):
         _put(genes, rot, i, seeds, seed_rot, i)
@@ -376,7 +380,7 @@ def ga_run(
         # Fill the generation with mutated copies of random seeds.
         pick = rng.integers(0, k, total - k)
         zero = np.zeros(total - k)
-        parents, parent_rot = np.empty((total - k, NP)), np.empty((total - k, 3, 3))
+        parents, parent_rot = np.empty((total - k, N_PARAMS)), np.empty((total - k, 3, 3))
         for i in range(total - k):
             _put(parents, parent_rot, i, seeds, seed_rot, pick[i])
         offspring(
@@ -396,10 +400,10 @@ def ga_run(
         hist_evals[0], hist_best[0] = used, best
         n_hist = 1
 
-    kids = np.empty((count, NP))
+    kids = np.empty((count, N_PARAMS))
     kid_rot = np.empty((count, 3, 3))
     kid_eof = np.empty(count)
-    scratch, scratch_rot = np.empty(NP), np.empty((3, 3))
+    scratch, scratch_rot = np.empty(N_PARAMS), np.empty((3, 3))
     pool = np.arange(count)
     generations, stall, status = 0, 0, STATUS_BUDGET
     while True:
@@ -477,7 +481,7 @@ def solid_distance_many(
 ) -> None:  # fmt: skip
     """:func:`solid_distance` row by row into `out` (P,)."""
     tables = TABLES
-    scratch, scratch_rot = np.empty(NP), np.empty((3, 3))
+    scratch, scratch_rot = np.empty(N_PARAMS), np.empty((3, 3))
     for p in range(genes.shape[0]):
         out[p] = solid_distance(
             genes[p], rot[p], other[p], other_rot[p], size, tables, scratch, scratch_rot

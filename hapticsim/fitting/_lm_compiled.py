@@ -34,14 +34,14 @@ from numba import njit
 
 from hapticsim.geometry._eof_compiled import (
     JIT,
-    NP,
     problem_jacobian,
     problem_residuals,
     residual_length,
 )
+from hapticsim.geometry.layout import N_PARAMS
 
 #: Evaluations a Jacobian counts for (forward differences over 13 parameters, SPEC §3).
-JACOBIAN_EVALUATIONS = NP
+JACOBIAN_EVALUATIONS = N_PARAMS
 #: Status codes of :func:`lm_run`.
 STATUS_CONVERGED, STATUS_BUDGET, STATUS_ITERATIONS = 0, 1, 2
 #: Initial damping relative to the largest diagonal entry of J^T J.
@@ -76,7 +76,7 @@ def _cholesky_solve(a: np.ndarray, b: np.ndarray, free: np.ndarray, out: np.ndar
         for k in range(i):
             s -= low[i, k] * y[k]
         y[i] = s / low[i, i]
-    for i in range(NP):
+    for i in range(N_PARAMS):
         out[i] = 0.0
     for i in range(m - 1, -1, -1):
         s = y[i]
@@ -91,7 +91,7 @@ def _normal_equations(jac_t: np.ndarray, r: np.ndarray, scale: np.ndarray, a: np
                       g: np.ndarray) -> None:  # fmt: skip
     """``A = Jz^T Jz`` (13, 13) and ``g = Jz^T r`` (13,) for the scaled Jacobian Jz = J scale."""
     n = r.shape[0]
-    for k in range(NP):
+    for k in range(N_PARAMS):
         s = 0.0
         row = jac_t[k]
         for i in range(n):
@@ -131,44 +131,44 @@ def lm_run(
         the steps tried.
     """
     n = residual_length(problem)
-    x = np.empty(NP)
-    for k in range(NP):
+    x = np.empty(N_PARAMS)
+    for k in range(N_PARAMS):
         x[k] = min(max(x0[k], lower[k]), upper[k])
         x_out[k] = x[k]
     if max_evaluations < 1:
         return math.inf, 0, STATUS_BUDGET, 0
     r = np.empty((1, n))
-    problem_residuals(problem, x.reshape(1, NP), r, tally)
+    problem_residuals(problem, x.reshape(1, N_PARAMS), r, tally)
     used = 1
     cost = 0.0
     for i in range(n):
         cost += r[0, i] * r[0, i]
     if used + JACOBIAN_EVALUATIONS > max_evaluations:
         return cost, used, STATUS_BUDGET, 0
-    jac_t = np.empty((NP, n))
+    jac_t = np.empty((N_PARAMS, n))
     rv = np.empty(n)
     problem_jacobian(problem, x, rv, jac_t, tally)
     used += JACOBIAN_EVALUATIONS
-    a = np.empty((NP, NP))
-    g = np.empty(NP)
+    a = np.empty((N_PARAMS, N_PARAMS))
+    g = np.empty(N_PARAMS)
     _normal_equations(jac_t, rv, scale, a, g)
     dmax = 0.0
-    for k in range(NP):
+    for k in range(N_PARAMS):
         dmax = max(dmax, a[k, k])
     mu = _TAU * max(dmax, 1e-300)
     nu = 2.0
-    damped = np.empty((NP, NP))
-    dz = np.empty(NP)
-    rhs = np.empty(NP)
-    free = np.empty(NP, np.bool_)
-    trial = np.empty((1, NP))
+    damped = np.empty((N_PARAMS, N_PARAMS))
+    dz = np.empty(N_PARAMS)
+    rhs = np.empty(N_PARAMS)
+    free = np.empty(N_PARAMS, np.bool_)
+    trial = np.empty((1, N_PARAMS))
     rt = np.empty((1, n))
     status = STATUS_ITERATIONS
     it = 0
     while it < max_iterations:
         # Converged by the gradient?
         gmax = 0.0
-        for k in range(NP):
+        for k in range(N_PARAMS):
             at_low = x[k] <= lower[k] and g[k] > 0.0
             at_high = x[k] >= upper[k] and g[k] < 0.0
             free[k] = not (at_low or at_high)
@@ -181,8 +181,8 @@ def lm_run(
             status = STATUS_BUDGET
             break
         it += 1
-        for k in range(NP):
-            for m in range(NP):
+        for k in range(N_PARAMS):
+            for m in range(N_PARAMS):
                 damped[k, m] = a[k, m]
             damped[k, k] += mu * max(a[k, k], 1e-12 * dmax + 1e-300)
             rhs[k] = -g[k]
@@ -195,7 +195,7 @@ def lm_run(
             continue
         znorm = 0.0
         dnorm = 0.0
-        for k in range(NP):
+        for k in range(N_PARAMS):
             step = dz[k] * scale[k]
             value = min(max(x[k] + step, lower[k]), upper[k])
             dz[k] = (value - x[k]) / scale[k]  # the step actually taken (after clipping)
@@ -213,15 +213,15 @@ def lm_run(
             trial_cost += rt[0, i] * rt[0, i]
         # predicted reduction of the linear model: -(2 g.dz + dz.A dz)
         pred = 0.0
-        for k in range(NP):
+        for k in range(N_PARAMS):
             s = 0.0
-            for m in range(NP):
+            for m in range(N_PARAMS):
                 s += a[k, m] * dz[m]
             pred -= 2.0 * g[k] * dz[k] + dz[k] * s
         actual = cost - trial_cost
         rho = actual / pred if pred > 0.0 else -1.0
         if actual > 0.0 and rho > 0.0:
-            for k in range(NP):
+            for k in range(N_PARAMS):
                 x[k] = trial[0, k]
                 x_out[k] = x[k]
             old = cost
@@ -237,7 +237,7 @@ def lm_run(
             problem_jacobian(problem, x, rv, jac_t, tally)
             used += JACOBIAN_EVALUATIONS
             _normal_equations(jac_t, rv, scale, a, g)
-            for k in range(NP):
+            for k in range(N_PARAMS):
                 dmax = max(dmax, a[k, k])
         else:
             mu *= nu

@@ -20,8 +20,16 @@ import itertools
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.geometry.layout import (
+    N_PARAMS,
+    SLICE_A,
+    SLICE_CENTER,
+    SLICE_EPS,
+    SLICE_ROTVEC,
+    SLICE_TAPER,
+)
 from hapticsim.geometry.rotations import matrix_to_rotvec, random_rotation
-from hapticsim.geometry.superquadric import N_PARAMS, Superquadric
+from hapticsim.geometry.superquadric import Superquadric
 
 Array = NDArray[np.float64]
 
@@ -237,6 +245,6 @@ def random_frame_seeds(
         return np.zeros((0, N_PARAMS))
     centers, halves = _frame_seeds(points_world, normals_world, rotations)
     out = np.empty((len(rotations), N_PARAMS))
-    out[:, 0:3], out[:, 3:5], out[:, 5:7] = halves, 1.0, 0.0
-    out[:, 7:10], out[:, 10:13] = matrix_to_rotvec(rotations), centers
+    out[:, SLICE_A], out[:, SLICE_EPS], out[:, SLICE_TAPER] = halves, 1.0, 0.0
+    out[:, SLICE_ROTVEC], out[:, SLICE_CENTER] = matrix_to_rotvec(rotations), centers
     return out

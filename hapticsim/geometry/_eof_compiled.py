@@ -49,13 +49,12 @@ from numba.extending import intrinsic, overload
 
 from hapticsim._jit_cache import ensure_fresh
 from hapticsim.constants import MIN_TAPER_FACTOR
+from hapticsim.geometry.layout import I_A, I_CENTER, I_EPS, I_ROTVEC, I_TAPER, N_PARAMS
 
 ensure_fresh()  # before any cached kernel of hapticsim is loaded (they all import this module)
 
 #: Floor added to |x / a| before its log (as the oracle): finite logs on the body planes.
 TINY = 1e-150
-#: Number of parameters of a superquadric vector (Superquadric.to_vector order).
-NP = 13
 
 #: Compilation options of everything here: cached machine code, no GIL, IEEE division (inf/nan
 #: instead of exceptions, which would stop vectorisation).
@@ -475,10 +474,10 @@ def _jacobian_frame(x: np.ndarray) -> tuple:
     """The pose of parameter vector `x` for a Jacobian: :func:`_frame`, its rotation entries
     (``f[3:]``) and the left Jacobian of the rotation vector's map, as 9 scalars (row-major)."""
     rot = np.empty((3, 3))
-    rotvec_matrix(x[7], x[8], x[9], rot)
+    rotvec_matrix(x[I_ROTVEC], x[I_ROTVEC + 1], x[I_ROTVEC + 2], rot)
     jl = np.empty((3, 3))
-    left_jacobian(x[7], x[8], x[9], jl)
-    f = _frame(rot, x[10:13])
+    left_jacobian(x[I_ROTVEC], x[I_ROTVEC + 1], x[I_ROTVEC + 2], jl)
+    f = _frame(rot, x[I_CENTER : I_CENTER + 3])
     jm = (jl[0, 0], jl[0, 1], jl[0, 2], jl[1, 0], jl[1, 1], jl[1, 2], jl[2, 0], jl[2, 1],
           jl[2, 2])  # fmt: skip
     return f, f[3:], jm
@@ -713,11 +712,11 @@ def vector_fields(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
                              np.empty((count, 3)))  # fmt: skip
     for i in range(count):
         for k in range(3):
-            a[i, k] = vectors[i, k]
-            center[i, k] = vectors[i, 10 + k]
+            a[i, k] = vectors[i, I_A + k]
+            center[i, k] = vectors[i, I_CENTER + k]
         for k in range(2):
-            eps[i, k] = vectors[i, 3 + k]
-            taper[i, k] = vectors[i, 5 + k]
+            eps[i, k] = vectors[i, I_EPS + k]
+            taper[i, k] = vectors[i, I_TAPER + k]
     return a, eps, taper, center
 
 
@@ -730,7 +729,8 @@ def ml_residuals_vectors(
     count = vectors.shape[0]
     rot = np.empty((count, 3, 3))
     for k in range(count):
-        rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
+        rotvec_matrix(vectors[k, I_ROTVEC], vectors[k, I_ROTVEC + 1], vectors[k, I_ROTVEC + 2],
+                      rot[k])  # fmt: skip
     a, eps, taper, center = vector_fields(vectors)
     ml_residuals_posed(
         points, normals, with_normals, a, eps, taper, rot, center, settings, free, out, tally,
@@ -840,7 +840,8 @@ def residuals_vectors(
     count = vectors.shape[0]
     rot = np.empty((count, 3, 3))
     for k in range(count):
-        rotvec_matrix(vectors[k, 7], vectors[k, 8], vectors[k, 9], rot[k])
+        rotvec_matrix(vectors[k, I_ROTVEC], vectors[k, I_ROTVEC + 1], vectors[k, I_ROTVEC + 2],
+                      rot[k])  # fmt: skip
     a, eps, taper, center = vector_fields(vectors)
     residuals_posed(
         points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally,
@@ -863,8 +864,9 @@ def _world_column(
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rm
     j00, j01, j02, j10, j11, j12, j20, j21, j22 = jm
     i = col
-    jac_t[0, i], jac_t[1, i], jac_t[2, i] = ga1, ga2, ga3
-    jac_t[3, i], jac_t[4, i], jac_t[5, i], jac_t[6, i] = ge1, ge2, gtx, gty
+    jac_t[I_A, i], jac_t[I_A + 1, i], jac_t[I_A + 2, i] = ga1, ga2, ga3
+    jac_t[I_EPS, i], jac_t[I_EPS + 1, i] = ge1, ge2
+    jac_t[I_TAPER, i], jac_t[I_TAPER + 1, i] = gtx, gty
     # World-frame gradients g = R dr/dp and g_m = R dr/dm.
     g0 = r00 * gpx + r01 * gpy + r02 * gpz
     g1 = r10 * gpx + r11 * gpy + r12 * gpz
@@ -876,10 +878,10 @@ def _world_column(
     v0 = (g1 * d2 - g2 * d1) + (h1 * m2 - h2 * m1)
     v1 = (g2 * d0 - g0 * d2) + (h2 * m0 - h0 * m2)
     v2 = (g0 * d1 - g1 * d0) + (h0 * m1 - h1 * m0)
-    jac_t[7, i] = j00 * v0 + j10 * v1 + j20 * v2
-    jac_t[8, i] = j01 * v0 + j11 * v1 + j21 * v2
-    jac_t[9, i] = j02 * v0 + j12 * v1 + j22 * v2
-    jac_t[10, i], jac_t[11, i], jac_t[12, i] = -g0, -g1, -g2
+    jac_t[I_ROTVEC, i] = j00 * v0 + j10 * v1 + j20 * v2
+    jac_t[I_ROTVEC + 1, i] = j01 * v0 + j11 * v1 + j21 * v2
+    jac_t[I_ROTVEC + 2, i] = j02 * v0 + j12 * v1 + j22 * v2
+    jac_t[I_CENTER, i], jac_t[I_CENTER + 1, i], jac_t[I_CENTER + 2, i] = -g0, -g1, -g2
 
 
 @njit(**JIT)
@@ -893,10 +895,11 @@ def jacobian_vector(
     counts 13 evaluations in `tally` (what forward differences would cost, SPEC §3; the
     residuals at x come with it, as they do with forward differences).
     """
-    tally[0] += NP
+    tally[0] += N_PARAMS
     n = points.shape[1]
     f, rm, jm = _jacobian_frame(x)
-    a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
+    a1, a2, a3 = x[I_A], x[I_A + 1], x[I_A + 2]
+    e1, e2, tx, ty = x[I_EPS], x[I_EPS + 1], x[I_TAPER], x[I_TAPER + 1]
     lam23 = 2.0 * lam / 3.0
     px_w, py_w, pz_w = points[0], points[1], points[2]
     nx_w, ny_w, nz_w = normals[0], normals[1], normals[2]
@@ -931,14 +934,15 @@ def ml_jacobian_vector(
     ``z = |r|^2`` and ``w = w(z)``, the rows of ``w r`` have the Jacobian
     ``w J + 2 w'(z) r (r^T J)``, so the least squares minimise the robust cost exactly.
     """
-    tally[0] += NP
+    tally[0] += N_PARAMS
     n, nf = points.shape[1], free.shape[1]
     k = 4 if with_normals else 1
     wp, wn, c = settings[ML_POINT_WEIGHT], settings[ML_NORMAL_WEIGHT], settings[ML_ROBUST]
     wt, e0, we = settings[ML_TAPER_WEIGHT], settings[ML_EPS_CENTER], settings[ML_EPS_WEIGHT]
     wf, margin = settings[ML_FREE_WEIGHT], settings[ML_FREE_MARGIN]
     f, rm, jm = _jacobian_frame(x)
-    a1, a2, a3, e1, e2, tx, ty = x[0], x[1], x[2], x[3], x[4], x[5], x[6]
+    a1, a2, a3 = x[I_A], x[I_A + 1], x[I_A + 2]
+    e1, e2, tx, ty = x[I_EPS], x[I_EPS + 1], x[I_TAPER], x[I_TAPER + 1]
     per_contact = settings.shape[0] > ML_SETTINGS
     wp0, wn0 = wp, wn
     for i in range(n):
@@ -974,7 +978,7 @@ def ml_jacobian_vector(
             for j in range(k):
                 z += r_out[col + j * n] * r_out[col + j * n]
             w, dw = robust_weight(z, c)
-            for p in range(NP):
+            for p in range(N_PARAMS):
                 rj = 0.0
                 for j in range(k):
                     rj += r_out[col + j * n] * jac_t[p, col + j * n]
@@ -986,20 +990,21 @@ def ml_jacobian_vector(
                 r_out[col + j * n] *= w
     base = k * n
     for j in range(ML_PRIORS):
-        for p in range(NP):
+        for p in range(N_PARAMS):
             jac_t[p, base + j] = 0.0
-    r_out[base], jac_t[5, base] = wt * tx, wt
-    r_out[base + 1], jac_t[6, base + 1] = wt * ty, wt
-    r_out[base + 2], jac_t[3, base + 2] = we * (e1 - e0), we
-    r_out[base + 3], jac_t[4, base + 3] = we * (e2 - e0), we
+    r_out[base], jac_t[I_TAPER, base] = wt * tx, wt
+    r_out[base + 1], jac_t[I_TAPER + 1, base + 1] = wt * ty, wt
+    r_out[base + 2], jac_t[I_EPS, base + 2] = we * (e1 - e0), we
+    r_out[base + 3], jac_t[I_EPS + 1, base + 3] = we * (e2 - e0), we
     wa = settings[ML_ANCHOR_WEIGHT]
     for q in range(3):
-        r_out[base + 4 + q], jac_t[q, base + 4 + q] = wa * (x[q] - settings[ML_ANCHOR + q]), wa
+        r_out[base + 4 + q] = wa * (x[I_A + q] - settings[ML_ANCHOR + q])
+        jac_t[I_A + q, base + 4 + q] = wa
         u = ML_ANCHOR + 6 + 3 * q
         cu = 0.0
         for j in range(3):
-            cu += settings[u + j] * x[10 + j]
-            jac_t[10 + j, base + 7 + q] = wa * settings[u + j]
+            cu += settings[u + j] * x[I_CENTER + j]
+            jac_t[I_CENTER + j, base + 7 + q] = wa * settings[u + j]
         r_out[base + 7 + q] = wa * (cu - settings[ML_ANCHOR + 3 + q])
     base += ML_PRIORS
     for j in range(nf):
@@ -1018,7 +1023,7 @@ def ml_jacobian_vector(
             )  # fmt: skip
         else:
             r_out[col] = 0.0
-            for p in range(NP):
+            for p in range(N_PARAMS):
                 jac_t[p, col] = 0.0
 
 

@@ -21,13 +21,19 @@ from numpy.typing import NDArray
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import _eof_compiled as kernel
+from hapticsim.geometry.layout import (
+    N_PARAMS,
+    SLICE_A,
+    SLICE_CENTER,
+    SLICE_EPS,
+    SLICE_TAPER,
+)
 
 Array = NDArray[np.float64]
 
 #: Ways of measuring the contact distance D1 (see :func:`contact_residuals`).
 DISTANCES: tuple[str, ...] = ("untapered", "tapered")
 #: Parameters of a superquadric vector (a, eps, taper, rotation vector, centre).
-N_VECTOR = kernel.NP
 
 
 def check_distance(distance: str) -> bool:
@@ -101,22 +107,22 @@ class ContactSet:
 
     def problem_residuals(self, problem: tuple, vectors: Array) -> Array:
         """Residual vectors (P, m) of a :meth:`problem` at P parameter vectors (P, 13)."""
-        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
         out = np.empty((v.shape[0], kernel.residual_length(problem)))
         kernel.problem_residuals(problem, v, out, self.tally)
         return out
 
     def problem_jacobian(self, problem: tuple, vector: Array) -> tuple[Array, Array]:
         """Residual vector (m,) of a :meth:`problem` and its analytic Jacobian (m, 13)."""
-        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_VECTOR)
+        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_PARAMS)
         m = kernel.residual_length(problem)
-        r, jac_t = np.empty(m), np.empty((N_VECTOR, m))
+        r, jac_t = np.empty(m), np.empty((N_PARAMS, m))
         kernel.problem_jacobian(problem, x, r, jac_t, self.tally)
         return r, jac_t.T
 
     def residuals(self, vectors: Array, lam: float, tapered: bool) -> Array:
         """Residuals (P, n) [m] of P parameter vectors (P, 13)."""
-        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
         out = np.empty((v.shape[0], self.count))
         kernel.residuals_vectors(
             self.points,
@@ -133,21 +139,21 @@ class ContactSet:
     def residuals_posed(self, vectors: Array, rotations: Array, lam: float, tapered: bool) -> Array:
         """Residuals (P, n) [m] of P vectors (P, 13) whose rotations are given as matrices
         (P, 3, 3) instead (the rotation-vector entries of `vectors` are ignored)."""
-        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_VECTOR)
+        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
         rot = np.ascontiguousarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
         out = np.empty((v.shape[0], self.count))
         kernel.residuals_posed(
-            self.points, self.normals, self.with_normals, np.ascontiguousarray(v[:, 0:3]),
-            np.ascontiguousarray(v[:, 3:5]), np.ascontiguousarray(v[:, 5:7]), rot,
-            np.ascontiguousarray(v[:, 10:13]), float(lam), bool(tapered), out, self.tally,
+            self.points, self.normals, self.with_normals, np.ascontiguousarray(v[:, SLICE_A]),
+            np.ascontiguousarray(v[:, SLICE_EPS]), np.ascontiguousarray(v[:, SLICE_TAPER]), rot,
+            np.ascontiguousarray(v[:, SLICE_CENTER]), float(lam), bool(tapered), out, self.tally,
         )  # fmt: skip
         return out
 
     def jacobian(self, vector: Array, lam: float, tapered: bool) -> tuple[Array, Array]:
         """Residuals (n,) [m] and their analytic Jacobian (n, 13) at one vector (13,)."""
-        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_VECTOR)
+        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_PARAMS)
         r = np.empty(self.count)
-        jac_t = np.empty((N_VECTOR, self.count))
+        jac_t = np.empty((N_PARAMS, self.count))
         kernel.jacobian_vector(
             self.points,
             self.normals,

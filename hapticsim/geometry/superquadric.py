@@ -30,6 +30,15 @@ from hapticsim.constants import (
 )
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import functions as fn
+from hapticsim.geometry.layout import (  # noqa: F401  (the layout's names, re-exported)
+    N_PARAMS,
+    PARAM_NAMES,
+    SLICE_A,
+    SLICE_CENTER,
+    SLICE_EPS,
+    SLICE_ROTVEC,
+    SLICE_TAPER,
+)
 from hapticsim.geometry.parametrization import parametrize
 from hapticsim.geometry.rotations import (
     is_rotation,
@@ -43,17 +52,6 @@ from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
 
-#: Length of the parameter vector (paper: 13 parameters).
-N_PARAMS: int = 13
-#: Slices of the parameter vector.
-SLICE_A = slice(0, 3)
-SLICE_EPS = slice(3, 5)
-SLICE_TAPER = slice(5, 7)
-SLICE_ROTVEC = slice(7, 10)
-SLICE_CENTER = slice(10, 13)
-PARAM_NAMES: tuple[str, ...] = (
-    "a1", "a2", "a3", "eps1", "eps2", "tx", "ty", "rx", "ry", "rz", "x0", "y0", "z0",
-)  # fmt: skip
 
 #: Keys a superquadric JSON must have (SPEC §6); ``taper`` defaults to [0, 0].
 REQUIRED_KEYS: tuple[str, ...] = ("a", "eps", "rotation", "center")
