@@ -426,7 +426,7 @@ def _add_suite_parser(sub: Any) -> None:
 
 
 def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
-    from hapticsim.envs.comparison import evaluate_policy
+    from hapticsim.benchmarks.comparison import evaluate_policy
 
     result = evaluate_policy(
         args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
@@ -448,8 +448,8 @@ def _policies_epilog() -> str:
 
 def _add_policies_parser(sub: Any) -> None:
     """``hapticsim policies evaluate`` (exploration policies on HapticExplore-v0, SPEC §6)."""
+    from hapticsim.data.distributions import OBJECT_KINDS
     from hapticsim.envs.haptic_explore_v0 import BACKENDS
-    from hapticsim.envs.objects import OBJECT_KINDS
 
     policies = sub.add_parser("policies", help="exploration policies: evaluate one (JSON)")
     cmds = policies.add_subparsers(dest="policies_command", required=True, parser_class=_Parser)

@@ -18,7 +18,7 @@ listing it in ``SECTIONS``):
   one process (resets counted and not), and ``make_vec(..., num_envs=2, "async")`` against one
   process in the same run.
 - ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
-  exploration per body (:func:`hapticsim.sim.benchmark.benchmark_sim`).
+  exploration per body (:func:`hapticsim.benchmarks.sim.benchmark_sim`).
 - ``multi``: the median wall and CPU seconds of a ``method="multi"`` fit of 300 contacts against
   nH's on the same contacts: area samples of the L-block and of 10 random composites (seeds
   200-209), and the paper's patterns on the four bodies (one part), with the parts it chose.
@@ -203,7 +203,7 @@ def section_score(args: argparse.Namespace) -> dict[str, Any]:
 
 def section_env(args: argparse.Namespace) -> dict[str, Any]:
     """Steps per second of hapticsim/HapticExplore-v0 (random touches), one and two processes."""
-    from hapticsim.envs.benchmark import benchmark_env, benchmark_vector_env
+    from hapticsim.benchmarks.env import benchmark_env, benchmark_vector_env
 
     out: dict[str, Any] = {}
     for backend in args.backends:
@@ -217,7 +217,7 @@ def section_env(args: argparse.Namespace) -> dict[str, Any]:
 
 def section_sim(args: argparse.Namespace) -> dict[str, Any]:
     """MuJoCo hand: physics steps per second and a 150-contact paper exploration per body."""
-    from hapticsim.sim.benchmark import benchmark_sim
+    from hapticsim.benchmarks.sim import benchmark_sim
 
     return benchmark_sim(count=150) | {"load": _load()}
 
@@ -225,7 +225,7 @@ def section_sim(args: argparse.Namespace) -> dict[str, Any]:
 def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
     """Exact against tactile sensing, same run: environment steps per second per backend and
     explore's time per body (medians over the four bodies)."""
-    from hapticsim.envs.benchmark import benchmark_env
+    from hapticsim.benchmarks.env import benchmark_env
     from hapticsim.experiments.explore import explore
 
     out: dict[str, Any] = {}

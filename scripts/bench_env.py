@@ -15,8 +15,8 @@ import os
 import sys
 from pathlib import Path
 
+from hapticsim.benchmarks.env import benchmark_env
 from hapticsim.data.io import write_text_atomic
-from hapticsim.envs.benchmark import benchmark_env
 from hapticsim.envs.haptic_explore_v0 import BACKENDS
 
 

@@ -14,8 +14,8 @@ import json
 import os
 import sys
 
+from hapticsim.benchmarks.sim import benchmark_sim
 from hapticsim.data.bodies import BODY_NAMES
-from hapticsim.sim.benchmark import benchmark_sim
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -14,7 +14,7 @@ import argparse
 import json
 import sys
 
-from hapticsim.envs.benchmark import benchmark_touch
+from hapticsim.benchmarks.env import benchmark_touch
 
 
 def main(argv: list[str] | None = None) -> int:

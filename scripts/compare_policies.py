@@ -18,9 +18,9 @@ import sys
 import time
 from pathlib import Path
 
-from hapticsim.envs.comparison import compare_policies, write_comparison
+from hapticsim.benchmarks.comparison import compare_policies, write_comparison
+from hapticsim.data.distributions import OBJECT_KINDS
 from hapticsim.envs.haptic_explore_v0 import BACKENDS
-from hapticsim.envs.objects import OBJECT_KINDS
 from hapticsim.envs.policies import POLICY_NAMES
 
 

@@ -32,8 +32,8 @@ LONG = 4
 
 
 def _case(args: tuple[int, float, int]) -> dict[str, Any]:
+    from hapticsim.data.distributions import ObjectDistribution
     from hapticsim.data.synthetic import paper_dataset
-    from hapticsim.envs.objects import ObjectDistribution
     from hapticsim.fitting import DEFAULT_BUDGET, fit
     from hapticsim.geometry.eof import error_of_fit
     from hapticsim.metrics import volume_overlap

@@ -2,7 +2,7 @@
 
 Reads the JSON that ``hapticsim policies evaluate`` printed for several policies on the same
 backend, objects, seed, episodes and touches (so the episodes pair), writes with
-:func:`hapticsim.envs.comparison.write_comparison` a folder with ``README.md`` (mean ± std
+:func:`hapticsim.benchmarks.comparison.write_comparison` a folder with ``README.md`` (mean ± std
 (median) after N touches; paired Wilcoxon tests of every policy against random, learned ones
 against uncertainty too), ``epsilon.csv``, ``epsilon.png`` and ``raw.json``, and prints as JSON
 the figures after the last touch and the bar of issue 10 (eps_L <= eps_R - 0.5 (eps_R - eps_U)
@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--learned", default="learned", help="name of the learned policy")
     args = parser.parse_args(argv)
 
-    from hapticsim.envs.comparison import Comparison, write_comparison
+    from hapticsim.benchmarks.comparison import Comparison, write_comparison
     from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
 
     results = read_results(args.results)

@@ -47,7 +47,7 @@ def _seeds(text: str) -> list[int]:
 
 def _truth(kind: str, seed: int) -> Any:
     from hapticsim.data.bodies import get_body
-    from hapticsim.envs.objects import ObjectDistribution
+    from hapticsim.data.distributions import ObjectDistribution
     from hapticsim.geometry import random_rotation
 
     rng = np.random.default_rng(seed)

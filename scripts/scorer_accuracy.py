@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hapticsim.envs.objects import ObjectDistribution
+from hapticsim.data.distributions import ObjectDistribution
 from hapticsim.metrics.chamfer import chamfer
 from hapticsim.metrics.episode import TruthScorer
 from hapticsim.metrics.volume import volume_overlap

@@ -32,6 +32,8 @@ ALLOWED: dict[str, set[str]] = {
     "suites": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "experiments"},
     # reads run directories (plain files): no simulator, no environments
     "viewer": {"geometry", "data", "metrics", "fitting"},
+    # benchmarks and report writers: on top, imported by nothing in the library
+    "benchmarks": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
 }
 
 

@@ -7,6 +7,8 @@
 - :mod:`~hapticsim.data.io`: :class:`Contacts` and contact/JSON files.
 - :mod:`~hapticsim.data.objects`: objects from anywhere (``ObjectSpec``: body names, superquadric
   files, random shapes, mesh files); :mod:`~hapticsim.data.example_meshes`.
+- :mod:`~hapticsim.data.distributions`: which object an episode gets (``ObjectDistribution``,
+  ``ObjectSet``).
 """
 
 from hapticsim.data.bodies import BODY_NAMES, get_body, resolve_body

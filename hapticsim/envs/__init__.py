@@ -8,10 +8,12 @@ registered when ``hapticsim`` is imported::
 
     env = gym.make("hapticsim/HapticExplore-v0", backend="analytic")
 
-Modules: ``haptic_explore_v0`` (the environment), ``touch`` (action semantics, backend protocol),
-``analytic`` and ``mujoco_backend`` (the two backends), ``support`` (which contacts the object's
-stand makes unreachable), ``estimator`` (the fit schedule), ``objects`` (object distributions),
-``policies`` (baseline exploration policies), ``comparison`` (policy comparison: tables, plot),
-``benchmark`` (steps per second), ``rendering`` (pictures), ``registration``.
+Modules: ``haptic_explore_v0`` (the environment), ``observation`` (its fit codec), ``touch``
+(action semantics, backend protocol), ``analytic`` and ``mujoco_backend`` (the two backends),
+``support`` (which contacts the object's stand makes unreachable), ``estimator`` (the fit
+schedule), ``policies`` (baseline exploration policies), ``rendering`` (pictures),
+``registration``. Policy comparisons and speed benchmarks sit on top, in
+:mod:`hapticsim.benchmarks`; the object distributions an episode draws from are data
+(:mod:`hapticsim.data.distributions`).
 Importing this package imports neither gymnasium nor MuJoCo.
 """

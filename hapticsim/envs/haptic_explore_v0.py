@@ -16,8 +16,8 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
+from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
-from hapticsim.envs.objects import ObjectDistribution, ObjectSet
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import (
@@ -49,7 +49,7 @@ class HapticExploreConfig:
         objects: the object distribution, or one of its kind names (``"paper"``, ``"random"``,
             ``"random_tapered"``); or any object or list of objects (body names, superquadric
             JSON files, union JSON files, ``random``/``random_tapered``, mesh files, or solids:
-            :class:`~hapticsim.envs.objects.ObjectSet`), one drawn per episode.
+            :class:`~hapticsim.data.distributions.ObjectSet`), one drawn per episode.
         touch_budget: touches per episode; the episode is truncated after it.
         max_contacts: size of the observation's contact buffer (later contacts are still fitted
             but not shown).

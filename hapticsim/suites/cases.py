@@ -172,7 +172,7 @@ def _truth(body: str, rng: np.random.Generator) -> Any:
         from hapticsim.data.bodies import get_body
 
         return get_body(body)
-    from hapticsim.envs.objects import ObjectDistribution
+    from hapticsim.data.distributions import ObjectDistribution
     from hapticsim.geometry import random_rotation
 
     shape = ObjectDistribution(kind=body).sample(rng)

@@ -127,7 +127,7 @@ def _policies() -> tuple[str, ...]:
 
 
 def _object_kinds() -> tuple[str, ...]:
-    from hapticsim.envs.objects import OBJECT_KINDS
+    from hapticsim.data.distributions import OBJECT_KINDS
 
     return tuple(OBJECT_KINDS)
 

@@ -7,11 +7,11 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from hapticsim.data.bodies import get_body
+from hapticsim.data.distributions import ObjectDistribution, ObjectSet, coerce_objects
 from hapticsim.data.example_meshes import l_block, truncated_pyramid
 from hapticsim.data.objects import write_stl
 from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.objects import ObjectDistribution, ObjectSet, coerce_objects
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import MeshSolid, Superquadric
 from hapticsim.sim.rough import BOX_EPS

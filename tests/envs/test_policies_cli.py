@@ -7,8 +7,8 @@ import json
 import numpy as np
 import pytest
 
+from hapticsim.benchmarks.comparison import compare_policies, evaluate_policy
 from hapticsim.cli import main
-from hapticsim.envs.comparison import compare_policies, evaluate_policy
 from hapticsim.envs.estimator import FitSchedule
 from tests.envs.test_learned import random_actor
 

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from hapticsim.benchmarks.sim import mesh_contact_accuracy
 from hapticsim.data.bodies import get_body
-from hapticsim.sim.benchmark import mesh_contact_accuracy
 from hapticsim.sim.scene import DEFAULT_MESH_RESOLUTION
 
 

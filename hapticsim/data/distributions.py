@@ -21,25 +21,19 @@ from typing import Any
 import numpy as np
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
-from hapticsim.data.objects import ObjectSpec, as_spec, random_composite, random_superquadric
+from hapticsim.data.objects import (
+    ObjectSpec,
+    _check_range,
+    as_spec,
+    random_composite,
+    random_superquadric,
+)
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
 
 #: Kinds of object distributions.
 OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered", "random_composite")
-
-
-def _check_range(name: str, value: tuple[float, float], low: float, high: float) -> None:
-    ok = (
-        isinstance(value, tuple) and len(value) == 2
-        and all(np.isfinite(v) for v in value) and low <= value[0] <= value[1] <= high
-    )  # fmt: skip
-    if not ok:
-        raise InvalidInputError(
-            f"`{name}` must be a (low, high) tuple with {low} <= low <= high <= {high}, "
-            f"got {value!r}"
-        )
 
 
 @dataclass(frozen=True)

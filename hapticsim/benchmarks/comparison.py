@@ -252,7 +252,7 @@ def evaluate_policy(
         (std with ddof 1), ``episodes_epsilon[i][n - 1]`` is episode i's epsilon after n touches.
     """
     from hapticsim._validate import positive_int
-    from hapticsim.envs.objects import OBJECT_KINDS
+    from hapticsim.data.distributions import OBJECT_KINDS
 
     if objects not in OBJECT_KINDS:
         raise InvalidInputError(f"`objects` must be one of {OBJECT_KINDS}, got {objects!r}")
