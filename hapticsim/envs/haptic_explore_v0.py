@@ -17,15 +17,11 @@ from numpy.typing import NDArray
 
 from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
+from hapticsim.envs.backends import make_backend
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
-from hapticsim.envs.touch import (
-    ACTION_DIM,
-    TouchResult,
-    decode_action,
-    make_backend,
-)
+from hapticsim.envs.touch import ACTION_DIM, TouchResult, decode_action
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid

@@ -287,21 +287,3 @@ class TouchBackend(Protocol):
     def close(self) -> None:
         """Release resources (renderers, simulations)."""
         ...
-
-
-def make_backend(config: Any) -> TouchBackend:
-    """The touch backend named by ``config.backend`` of a
-    :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreConfig`."""
-    if config.backend == "analytic":
-        from hapticsim.envs.analytic import AnalyticBackend
-
-        return AnalyticBackend(
-            noise=config.noise, support=config.support, stroke_spacing=config.stroke_spacing,
-            sensing=config.sensing, skin=config.skin,
-        )  # fmt: skip
-    from hapticsim.envs.mujoco_backend import MujocoBackend
-
-    return MujocoBackend(
-        noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand,
-        sensing=config.sensing, skin=config.skin,
-    )  # fmt: skip
