@@ -721,17 +721,27 @@ def vector_fields(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
 
 
 @njit(**JIT)
-def ml_residuals_vectors(
-    points: np.ndarray, normals: np.ndarray, with_normals: bool, vectors: np.ndarray,
-    settings: np.ndarray, free: np.ndarray, out: np.ndarray, tally: np.ndarray,
-) -> None:  # fmt: skip
-    """:func:`ml_residuals_posed` for P parameter vectors (P, 13)."""
+def vector_poses(
+    vectors: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(a, eps, taper, rot, center)`` of P parameter vectors (P, 13): the posed kernels'
+    arguments, the rotation vectors turned into matrices (P, 3, 3) (:func:`vector_fields`)."""
     count = vectors.shape[0]
     rot = np.empty((count, 3, 3))
     for k in range(count):
         rotvec_matrix(vectors[k, I_ROTVEC], vectors[k, I_ROTVEC + 1], vectors[k, I_ROTVEC + 2],
                       rot[k])  # fmt: skip
     a, eps, taper, center = vector_fields(vectors)
+    return a, eps, taper, rot, center
+
+
+@njit(**JIT)
+def ml_residuals_vectors(
+    points: np.ndarray, normals: np.ndarray, with_normals: bool, vectors: np.ndarray,
+    settings: np.ndarray, free: np.ndarray, out: np.ndarray, tally: np.ndarray,
+) -> None:  # fmt: skip
+    """:func:`ml_residuals_posed` for P parameter vectors (P, 13)."""
+    a, eps, taper, rot, center = vector_poses(vectors)
     ml_residuals_posed(
         points, normals, with_normals, a, eps, taper, rot, center, settings, free, out, tally,
     )  # fmt: skip
@@ -837,12 +847,7 @@ def residuals_vectors(
 ) -> None:  # fmt: skip
     """Residuals (P, n) [m] into `out` for P parameter vectors (P, 13); see
     :func:`residuals_posed` for the other arguments."""
-    count = vectors.shape[0]
-    rot = np.empty((count, 3, 3))
-    for k in range(count):
-        rotvec_matrix(vectors[k, I_ROTVEC], vectors[k, I_ROTVEC + 1], vectors[k, I_ROTVEC + 2],
-                      rot[k])  # fmt: skip
-    a, eps, taper, center = vector_fields(vectors)
+    a, eps, taper, rot, center = vector_poses(vectors)
     residuals_posed(
         points, normals, with_normals, a, eps, taper, rot, center, lam, tapered, out, tally,
     )  # fmt: skip
