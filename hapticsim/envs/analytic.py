@@ -270,12 +270,7 @@ class AnalyticBackend(SupportedBackend):
         if self.skin is not None:
             return self._felt(touch, pts_clean, nrm_clean, t0 + self.touch_seconds + duration,
                               start)  # fmt: skip
-        if self.noise > 0:
-            pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
-            )
-        else:
-            pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        pts, nrm = self._noisy(pts_clean, nrm_clean)
         return TouchResult(
             points=pts,
             normals=nrm,
@@ -287,6 +282,12 @@ class AnalyticBackend(SupportedBackend):
             status="ok",
             seconds=time.perf_counter() - start,
         )
+
+    def _noisy(self, points: Array, normals: Array) -> tuple[Array, Array]:
+        """The contacts with SPEC §5 noise of the backend's level on top (copies without)."""
+        if self.noise > 0:
+            return add_noise(points, normals, self.noise, self._truth.size, self._rng)
+        return points.copy(), normals.copy()
 
     def _felt(
         self, touch: Touch, exact: Array, exact_normals: Array, times: Array, start: float
@@ -310,12 +311,7 @@ class AnalyticBackend(SupportedBackend):
             return TouchResult.empty("missed", time.perf_counter() - start, "the pad felt nothing")
         pts_clean = np.array([e.point for e in estimates])
         nrm_clean = np.array([e.normal for e in estimates])
-        if self.noise > 0:
-            pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
-            )
-        else:
-            pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        pts, nrm = self._noisy(pts_clean, nrm_clean)
         return TouchResult(
             points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
             finger=np.full(len(keep), touch.finger), force=np.array([e.force for e in estimates]),
