@@ -12,10 +12,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from hapticsim._version import __version__
 from hapticsim.errors import HapticsimError, InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric
-
-__version__ = "0.1.0"
 
 __all__ = [
     "HapticsimError",

@@ -18,7 +18,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 PACKAGE = REPO / "hapticsim"
-ROOT = {"errors", "constants", "_validate", "_files", "_jit_cache", "parallel"}
+ROOT = {"errors", "constants", "_validate", "_files", "_jit_cache", "_version", "parallel"}
 #: Package -> the hapticsim packages it may import (besides the root modules).
 ALLOWED: dict[str, set[str]] = {
     "geometry": set(),
@@ -48,6 +48,8 @@ def _imports(path: Path) -> set[str]:
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.Import):
             names |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module == "hapticsim" and node.level == 0:
+            names |= {f"hapticsim.{alias.name}" for alias in node.names}  # its submodules
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
             names.add(node.module)
     return names
@@ -99,3 +101,12 @@ def test_importing_the_core_does_not_load_mujoco(package: str) -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
     )
     assert proc.returncode == 0, f"hapticsim.{package} loads mujoco: {proc.stderr[-500:]}"
+
+
+@pytest.mark.parametrize("package", sorted(ALLOWED) + ["parallel"])
+def test_no_package_imports_the_package_root(package: str) -> None:
+    # The root (hapticsim/__init__) registers the environments and re-exports the top names:
+    # a layer that imports it depends on everything above it.
+    for path in sorted((PACKAGE / package).rglob("*.py")):
+        assert "hapticsim" not in _imports(path), f"{path.relative_to(REPO)} imports hapticsim"
+

@@ -140,10 +140,10 @@ def _versions() -> dict[str, str]:
     import numpy
     import scipy
 
-    import hapticsim
+    from hapticsim._version import __version__
 
     return {
-        "hapticsim": hapticsim.__version__,
+        "hapticsim": __version__,
         "numpy": numpy.__version__,
         "scipy": scipy.__version__,
         "python": platform.python_version(),

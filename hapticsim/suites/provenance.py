@@ -47,9 +47,7 @@ def git_state() -> dict[str, Any] | None:
     or git is missing. A checkout of some other project that happens to contain the
     installation does not count.
     """
-    import hapticsim
-
-    package = Path(hapticsim.__file__).resolve().parent
+    package = Path(__file__).resolve().parents[1]  # the hapticsim package
 
     def git(*args: str) -> str | None:
         try:
@@ -150,10 +148,10 @@ def provenance(
         command: the command line, if run from one.
         started: when the run started (UTC).
     """
-    import hapticsim
+    from hapticsim._version import __version__
 
     return {
-        "hapticsim": hapticsim.__version__,
+        "hapticsim": __version__,
         "git": git_state(),
         "packages": package_versions(),
         "machine": machine(),
