@@ -13,8 +13,8 @@ stroke length, finger count, budget), never the ground truth:
   neighbourhood. Before the first fit, a sphere around the rough position stands in for the
   estimate.
 - :class:`InformationPolicy`: the same candidates, scored by the expected information of a
-  contact under the estimate's Laplace posterior (the entropy drop of its parameters) instead
-  of the coverage gap.
+  contact under the estimate's Laplace posterior (the drop of its surface variance, or of its
+  parameters' entropy) instead of the coverage gap.
 - :class:`LearnedPolicy`: a trained actor (:mod:`hapticsim.envs.learned`, numpy only) on the
   compact observation of ``HapticExploreCompact-v0``
   (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
@@ -37,11 +37,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import did_you_mean
+from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.touch import encode_touch, tangent_frame
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric
+from hapticsim.fitting.uncertainty import (
+    expected_information,
+    expected_surface_reduction,
+    posterior_covariance,
+    with_prior,
+)
+from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.rays import raycast_many
 from hapticsim.geometry.sampling import fibonacci_sphere
 
@@ -311,24 +318,30 @@ class InformationPolicy(UncertaintyPolicy):
                 f"`criterion` must be one of {self.CRITERIA}, got {criterion!r}"
             )
         self.criterion = criterion
+        self._posterior: tuple[Array, float] | None = None
+
+    def __call__(self, obs: Observation) -> NDArray[np.float32]:
+        self.prepare(obs)  # the posterior once per step, for the approach and the stroke
+        return super().__call__(obs)
+
+    def prepare(self, obs: Observation) -> None:
+        """The posterior of the observation's estimate, which :meth:`_score` uses (None before
+        the first fit and below 13 contacts)."""
+        self._posterior = None
+        contacts = self._contacts(obs)
+        if int(obs["fit_valid"][0]) and len(contacts) >= N_PARAMS:
+            estimate = self._estimate(obs)
+            normals = np.asarray(obs["normals"], dtype=np.float64)[np.asarray(obs["mask"], bool)]
+            cov, noise, _ = posterior_covariance(estimate, contacts, normals, DEFAULT_LAMBDA,
+                                                 "tapered")  # fmt: skip
+            self._posterior = (with_prior(cov, float(np.mean(estimate.a))), noise)
 
     def _score(
         self, points: Array, contacts: Array, estimate: Superquadric, obs: Observation
     ) -> Array:
-        from hapticsim.constants import DEFAULT_LAMBDA
-        from hapticsim.fitting.uncertainty import (
-            expected_information,
-            expected_surface_reduction,
-            posterior_covariance,
-            with_prior,
-        )
-
-        if not int(obs["fit_valid"][0]) or len(contacts) < 13:
+        if self._posterior is None:  # before the first fit, or too few contacts for one
             return _distance_to_set(points, contacts)
-        normals = np.asarray(obs["normals"], dtype=np.float64)[np.asarray(obs["mask"], bool)]
-        cov, noise, _ = posterior_covariance(estimate, contacts, normals, DEFAULT_LAMBDA,
-                                             "tapered")  # fmt: skip
-        cov = with_prior(cov, float(np.mean(estimate.a)))
+        cov, noise = self._posterior
         gain = expected_surface_reduction if self.criterion == "surface" else expected_information
         return gain(estimate, cov, noise, points)
 

@@ -147,7 +147,7 @@ class MLOptions:
         """The :class:`~hapticsim.fitting.likelihood.Likelihood` at a noise level and scale,
         with per-contact weight multipliers, the normals' noise per metre of the points'
         (``normal_factor = normal_ratio * length`` instead of :attr:`normal_factor`) and the
-        extent anchor (std ``self.anchor * length``; ignored when :attr:`anchor` is None) when
+        extent anchor (std :meth:`anchor_sigma`; ignored when :attr:`anchor` is None) when
         given."""
         factor = self.normal_factor if normal_ratio is None else normal_ratio * length
         held = anchor is not None and self.anchor is not None

@@ -122,10 +122,11 @@ def test_information_policy_scores_by_the_posterior_once_fitted() -> None:
     contacts = observed_contacts(obs, env.config.obs_scale)
     estimate = policy._estimate(obs)
     candidates = policy._candidates(estimate).points
+    policy.prepare(obs)
     surface = policy._score(candidates, contacts, estimate, obs)
-    entropy = InformationPolicy(env, criterion="entropy")._score(
-        candidates, contacts, estimate, obs
-    )
+    by_entropy = InformationPolicy(env, criterion="entropy")
+    by_entropy.prepare(obs)
+    entropy = by_entropy._score(candidates, contacts, estimate, obs)
     coverage = UncertaintyPolicy(env)._score(candidates, contacts, estimate, obs)
     assert np.all(surface >= 0) and np.all(entropy >= 0)
     # not the coverage gap in disguise: the three rank the candidates differently
