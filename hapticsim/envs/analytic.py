@@ -9,8 +9,9 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
   (resolution: chord / 6e4, about 2e-6 m);
 - a **stroke** follows the contour in a plane, like the hand's contour-following controller: the
   plane through the first contact spanned by its normal and the stroke direction; contacts lie
-  every ``stroke_spacing`` metres of arc length along that section (:func:`section_walk`), so the
-  stroke rolls over edges and corners onto the next face;
+  every ``stroke_spacing`` metres of arc length along that section
+  (:func:`~hapticsim.geometry.sections.section_walk`), so the stroke rolls over edges and corners
+  onto the next face;
 - a contact where a fingertip would hit the object's support (:class:`~hapticsim.envs.support.
   Support`: by default the thin stand under the object, as in the MuJoCo scene) is unreachable:
   a probe there is ``"blocked"``, a stroke stops there;
@@ -28,7 +29,6 @@ The backend is the simulator: it sees the ground truth, the environment's observ
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -38,10 +38,11 @@ from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
-from hapticsim.envs.touch import Touch, TouchResult, tangent_frame
+from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.geometry.rays import RAY_GRID, REFINE_GRID, raycast, raycast_many
+from hapticsim.geometry.rays import raycast
+from hapticsim.geometry.sections import section_walk
 from hapticsim.geometry.solid import Solid
 from hapticsim.tactile import PadLayout, estimate_contact, load_skin
 from hapticsim.tactile.pad import DEFAULT_PAD_GRID
@@ -52,102 +53,6 @@ Array = NDArray[np.float64]
 
 #: Fingers of the analytic hand (the MuJoCo hand's count when it is available).
 DEFAULT_FINGERS: int = 4
-#: Rays from inside a stroke's section that sample its curve.
-_SECTION_RAYS: int = 160
-
-
-def stroke_plane(shape: Solid, first: Array, stroke_angle: float) -> tuple[Array, Array]:
-    """Initial direction and plane normal of a stroke from `first` (action semantics).
-
-    Args:
-        shape: the surface the stroke starts on.
-        first: (3,) float, first contact [m, world] (on `shape`).
-        stroke_angle: psi [rad] in the tangent frame of :func:`tangent_frame`.
-
-    Returns:
-        direction (3,) unit tangent, plane_normal (3,) unit normal of the stroke's plane.
-    """
-    n0 = shape.normals(first[None, :])[0]
-    t_h, t_v = tangent_frame(n0)
-    direction = np.cos(stroke_angle) * t_h + np.sin(stroke_angle) * t_v
-    return direction, np.cross(n0, direction)
-
-
-def section_walk(
-    shape: Solid,
-    first: Array,
-    stroke_angle: float,
-    n_steps: int,
-    spacing: float,
-    keep: Callable[[Array], bool] | None = None,
-) -> list[Array]:
-    """Points `spacing` apart (arc length) along the section of `shape` by a stroke's plane.
-
-    The section of the convex solid by the plane through `first` spanned by its normal and the
-    stroke direction (:func:`stroke_plane`) is a convex curve; seen from a point inside it (the
-    middle of the chord along the first normal) each direction meets it once. The curve is
-    sampled on 160 such rays, walked from `first` in the stroke direction, and the points at
-    arc lengths ``spacing, 2 spacing, ...`` are moved back onto the exact surface along their
-    rays, so a stroke rolls over edges and corners onto the next face.
-
-    Args:
-        shape: the convex superquadric.
-        first: (3,) float, start point on the surface [m, world].
-        stroke_angle: psi [rad] (:func:`stroke_plane`).
-        n_steps: points to add after `first`.
-        spacing: arc length between points [m].
-        keep: stop before the first point for which this returns False (e.g. the support).
-
-    Returns:
-        ``[first, p1, p2, ...]``, at most ``n_steps + 1`` points (3,) [m, world].
-    """
-    first = np.asarray(first, dtype=np.float64)
-    out: list[Array] = [first]
-    if n_steps <= 0:
-        return out
-    direction, plane = stroke_plane(shape, first, stroke_angle)
-    n0 = shape.normals(first[None, :])[0]
-    reach = 4.0 * shape.bounding_radius + 4.0 * float(np.linalg.norm(first - shape.center))
-    back = raycast(shape, first - reach * n0, n0, reach)
-    center = first if back is None else 0.5 * (first + (first - reach * n0 + back * n0))
-    e1 = first - center
-    rho = float(np.linalg.norm(e1))
-    if rho < 1e-9:
-        return out
-    e1 /= rho
-    e2 = np.cross(plane, e1)
-    sign = 1.0 if direction @ e2 >= 0 else -1.0  # walk towards the stroke direction
-    theta = sign * np.linspace(0.0, 2.0 * np.pi, _SECTION_RAYS)
-    rays = np.cos(theta)[:, None] * e1 + np.sin(theta)[:, None] * e2
-    curve = center + _boundary(shape, center, rays, reach, (32, 16, 16))[:, None] * rays
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
-    targets = spacing * np.arange(1, n_steps + 1)
-    targets = targets[targets < arc[-1] - spacing]  # not all the way round
-    if len(targets) == 0:
-        return out
-    approx = np.stack([np.interp(targets, arc, curve[:, k]) for k in range(3)], axis=1)
-    rays = approx - center
-    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
-    points = center + _boundary(shape, center, rays, reach)[:, None] * rays
-    for q in points:
-        if keep is not None and not keep(q):
-            break
-        out.append(q)
-    return out
-
-
-def _boundary(
-    shape: Solid,
-    inside: Array,
-    rays: Array,
-    reach: float,
-    grids: tuple[int, ...] = (RAY_GRID, REFINE_GRID, REFINE_GRID),
-) -> Array:
-    """(k,) distances [m] from an interior point along unit `rays` to the surface."""
-    s = raycast_many(shape, inside + reach * rays, -rays, reach, grids=grids)
-    return reach - np.nan_to_num(s, nan=reach)
-
-
 class AnalyticBackend(SupportedBackend):
     """Touches on the analytic ground truth (see the module docstring).
 

@@ -33,12 +33,12 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
 from hapticsim.data.noise import add_noise
-from hapticsim.envs.analytic import section_walk, stroke_plane
 from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
+from hapticsim.geometry.sections import section_walk, stroke_plane
 from hapticsim.geometry.solid import Solid
 from hapticsim.sim.rough import RoughObject
 

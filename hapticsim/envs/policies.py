@@ -40,7 +40,7 @@ from hapticsim._validate import did_you_mean
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
-from hapticsim.envs.touch import encode_touch, tangent_frame
+from hapticsim.envs.touch import encode_touch
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.uncertainty import (
     expected_information,
@@ -51,6 +51,7 @@ from hapticsim.fitting.uncertainty import (
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.rays import raycast_many
 from hapticsim.geometry.sampling import fibonacci_sphere
+from hapticsim.geometry.sections import tangent_frame
 
 Array = NDArray[np.float64]
 Observation = dict[str, np.ndarray]

@@ -156,25 +156,6 @@ def encode_touch(
     return np.clip(a, -1.0, 1.0).astype(np.float32)
 
 
-def tangent_frame(normal: Array) -> tuple[Array, Array]:
-    """Horizontal and upward unit tangents ``(t_h, t_v)`` at a surface with outward `normal`.
-
-    ``t_h = z x n`` normalised (``x x n`` when n is vertical), ``t_v = n x t_h``.
-
-    Args:
-        normal: (3,) float unit vector.
-
-    Returns:
-        two (3,) float unit vectors, orthogonal to each other and to `normal`.
-    """
-    n = np.asarray(normal, dtype=np.float64)
-    t = np.cross(np.array([0.0, 0.0, 1.0]), n)
-    if np.linalg.norm(t) < 1e-6:
-        t = np.cross(np.array([1.0, 0.0, 0.0]), n)
-    t = t / np.linalg.norm(t)
-    return t, np.cross(n, t)
-
-
 @dataclass(frozen=True)
 class TouchResult:
     """The contacts that one touch produced (world frame).

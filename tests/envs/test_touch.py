@@ -11,9 +11,9 @@ from hapticsim.envs.touch import (
     TouchResult,
     decode_action,
     encode_touch,
-    tangent_frame,
 )
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.sections import tangent_frame
 
 
 def test_decode_known_actions() -> None:
