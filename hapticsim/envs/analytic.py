@@ -36,7 +36,6 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import FINGERTIP_RADIUS
-from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import InvalidInputError
@@ -187,12 +186,6 @@ class AnalyticBackend(SupportedBackend):
             status="ok",
             seconds=time.perf_counter() - start,
         )
-
-    def _noisy(self, points: Array, normals: Array) -> tuple[Array, Array]:
-        """The contacts with SPEC §5 noise of the backend's level on top (copies without)."""
-        if self.noise > 0:
-            return add_noise(points, normals, self.noise, self._truth.size, self._rng)
-        return points.copy(), normals.copy()
 
     def _felt(
         self, touch: Touch, exact: Array, exact_normals: Array, times: Array, start: float

@@ -27,12 +27,12 @@ Recorded contacts are MuJoCo's (SPEC §7), with sensor noise added afterwards (S
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
-from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import Support, SupportedBackend
 from hapticsim.envs.touch import Touch, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
@@ -44,8 +44,6 @@ from hapticsim.sim.rough import RoughObject
 
 Array = NDArray[np.float64]
 
-#: Shortest stroke worth a contour-following run [m]; shorter reachable strokes become probes.
-MIN_STROKE: float = 0.006
 #: Lead of the contour-following target along the tangent in a stroke [m]. It sets the sliding
 #: speed: about 10 cm/s here against 5 cm/s at :class:`~hapticsim.sim.controllers.FollowConfig`'s
 #: 0.002 (which the sim's own explorations keep), 40 % fewer control ticks per stroke. Measured on
@@ -213,12 +211,7 @@ class MujocoBackend(SupportedBackend):
             status = "failed" if message else "missed"
             return TouchResult.empty(status, seconds, message or "no contact recorded")
         pts_clean, nrm_clean = new["points_clean"], new["normals_clean"]
-        if self.noise > 0:
-            pts, nrm = add_noise(
-                pts_clean, nrm_clean, self.noise, self._truth.size, self._rng
-            )
-        else:
-            pts, nrm = pts_clean.copy(), nrm_clean.copy()
+        pts, nrm = self._noisy(pts_clean, nrm_clean)
         tactile = {}
         if ex.recorder.tactile:
             tactile = dict(
@@ -240,61 +233,17 @@ class MujocoBackend(SupportedBackend):
     def _stroke(self, touch: Touch, aim: Array) -> bool:
         """Plan and run a stroke; False when no useful stroke can be planned (then probe)."""
         from hapticsim.sim.controllers import Probe
-        from hapticsim.sim.explorer import StripeSpec
 
         ex = self._explorer
         assert ex is not None
         rough = ex.rough.shape
         n_steps = int(round(touch.stroke_length / self.stroke_spacing))
-        path = np.asarray(
-            section_walk(rough, aim, touch.stroke_angle, n_steps, self.stroke_spacing,
-                         self._reachable)
-        )  # fmt: skip
-        if len(path) < 2:
-            return False
+        path = section_walk(rough, aim, touch.stroke_angle, n_steps, self.stroke_spacing,
+                            self._reachable)  # fmt: skip
         direction, plane = stroke_plane(rough, aim, touch.stroke_angle)
-        normals = rough.normals(path)
-        hand = ex.scene.hand
-        radius = hand.fingers[touch.finger].tip_radius
-        sweep_q = hand.posture(touch.finger, "sweep")
-        tips = path + radius * normals
-        mid = len(path) // 2
-        first = Probe(aim, -touch.approach)
-        entry = first.start(ex.config.probe.standoff, radius)
-        best: tuple[int, object, Array] | None = None
-        poses = ex.planner.probe_poses(
-            touch.finger, tips[mid], -normals[mid], sweep_q, flexion_axis_world=plane
-        )
-        for pose in poses:
-            if pose.score < -50:
-                continue
-            q, err = ex.planner.kin.ik(touch.finger, entry, pose.position, pose.rotation, sweep_q)
-            if err > 0.002:
-                continue
-            _, ok = ex.planner.reachable(touch.finger, pose, list(tips), sweep_q)
-            last = 0
-            while last + 1 < len(ok) and ok[last + 1]:
-                last += 1
-            if ok[0] and (best is None or last > best[0]):
-                best = (last, pose, q)
-        if best is None:
-            return False
-        last, pose, q = best
-        length = float(np.sum(np.linalg.norm(np.diff(path[: last + 1], axis=0), axis=1)))
-        if length < MIN_STROKE:
-            return False
-        stripe = StripeSpec(touch.finger, first, plane, direction, length)
-        cfg = ex.config
-        from dataclasses import replace
-
-        ex.config = replace(
-            cfg, follow=replace(cfg.follow, spacing=self.stroke_spacing, lead=FOLLOW_LEAD)
-        )
-        try:
-            ex.sweep(pose, -normals[mid], [stripe], {touch.finger: q})
-        finally:
-            ex.config = cfg
-        return True
+        follow = replace(ex.config.follow, spacing=self.stroke_spacing, lead=FOLLOW_LEAD)
+        return ex.stroke(touch.finger, Probe(aim, -touch.approach), np.asarray(path), plane,
+                         direction, follow)  # fmt: skip
 
     # ------------------------------------------------------------------ rendering
     def render(

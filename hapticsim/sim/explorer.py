@@ -57,6 +57,16 @@ def planning_config(config: SceneConfig) -> SceneConfig:
                    sensing="exact")  # fmt: skip
 
 
+#: Shortest stroke worth a contour-following run [m] (:meth:`Explorer.stroke`); a shorter
+#: reachable stroke is left to a probe.
+MIN_STROKE: float = 0.006
+#: Lowest palm-pose score a stroke is planned from (the planner's scores fall far below it for
+#: poses that collide or bend the finger backwards).
+STROKE_MIN_SCORE: float = -50.0
+#: Largest inverse-kinematics error [m] of a fingertip's entry point accepted for a palm pose.
+IK_TOLERANCE: float = 0.002
+
+
 @dataclass(frozen=True)
 class ExplorerConfig:
     """Settings of an exploration run.
@@ -405,7 +415,7 @@ class Explorer:
             q, err = self.planner.kin.ik(
                 finger, group[0].start(standoff, radius), pose.position, pose.rotation, posture
             )
-            self.move_palm(pose, mean_dir, {finger: q if err < 0.002 else posture})
+            self.move_palm(pose, mean_dir, {finger: q if err < IK_TOLERANCE else posture})
             limit = min(self.config.max_misses - self.misses, patch_left)
             self.run([ProbeTask(finger, group, self.recorder, pattern, self.config.probe, limit)])
             remaining = rest
@@ -418,6 +428,7 @@ class Explorer:
         stripes: Sequence[StripeSpec],
         postures: Mapping[int, Array],
         extra: Sequence[tuple[int, Sequence[Probe]]] = (),
+        follow: FollowConfig | None = None,
     ) -> int:
         """Several fingers follow contours at once from one palm pose; optionally other fingers
         probe meanwhile (e.g. the thumb on a corner).
@@ -428,10 +439,12 @@ class Explorer:
             stripes: one per following finger.
             postures: finger postures to take before moving in.
             extra: (finger, probes) patches probed at the same time.
+            follow: the contour following of these stripes (default ``config.follow``).
 
         Returns:
             Number of contacts recorded.
         """
+        follow = self.config.follow if follow is None else follow
         before = len(self.recorder)
         self.move_palm(pose, approach_world, postures)
         tasks: list[FingerTask] = []
@@ -439,7 +452,7 @@ class Explorer:
             pattern = self.recorder.new_pattern("stripe")
             tasks.append(
                 FollowTask(s.finger, s.start, s.plane_normal_world, s.direction_world, s.length,
-                           self.recorder, pattern, self.config.follow, self.config.probe)
+                           self.recorder, pattern, follow, self.config.probe)
             )  # fmt: skip
         for finger, probes in extra:
             pattern = self.recorder.new_pattern("patch")
@@ -448,5 +461,73 @@ class Explorer:
         self.run(tasks)
         return len(self.recorder) - before
 
+    def stroke(
+        self,
+        finger: int,
+        first: Probe,
+        path_world: Array,
+        plane_normal_world: Array,
+        direction_world: Array,
+        follow: FollowConfig | None = None,
+    ) -> bool:
+        """One finger strokes along a planned path from a first probe: the palm pose that keeps
+        the longest reachable start of the path, then a contour-following run over it.
 
-__all__ = ["Explorer", "ExplorerConfig", "StripeSpec", "TRANSITS", "planning_config"]
+        Args:
+            finger: the stroking finger.
+            first: the probe that starts the stroke (its target on the surface).
+            path_world: (k, 3) points on the (rough) surface the stroke should pass, from the
+                first probe's target on [m].
+            plane_normal_world, direction_world: (3,) the stroke's plane and initial direction.
+            follow: the contour following (default ``config.follow``).
+
+        Returns:
+            False when no stroke of at least :data:`MIN_STROKE` can be planned (nothing moved).
+        """
+        path = np.asarray(path_world, dtype=np.float64)
+        if len(path) < 2:
+            return False
+        normals = self.rough.shape.normals(path)
+        hand = self.scene.hand
+        radius = hand.fingers[finger].tip_radius
+        sweep_q = hand.posture(finger, "sweep")
+        tips = path + radius * normals
+        mid = len(path) // 2
+        entry = first.start(self.config.probe.standoff, radius)
+        best: tuple[int, PalmPose, Array] | None = None
+        poses = self.planner.probe_poses(
+            finger, tips[mid], -normals[mid], sweep_q, flexion_axis_world=plane_normal_world
+        )
+        for pose in poses:
+            if pose.score < STROKE_MIN_SCORE:
+                continue
+            q, err = self.planner.kin.ik(finger, entry, pose.position, pose.rotation, sweep_q)
+            if err > IK_TOLERANCE:
+                continue
+            _, ok = self.planner.reachable(finger, pose, list(tips), sweep_q)
+            last = 0
+            while last + 1 < len(ok) and ok[last + 1]:
+                last += 1
+            if ok[0] and (best is None or last > best[0]):
+                best = (last, pose, q)
+        if best is None:
+            return False
+        last, pose, q = best
+        length = float(np.sum(np.linalg.norm(np.diff(path[: last + 1], axis=0), axis=1)))
+        if length < MIN_STROKE:
+            return False
+        stripe = StripeSpec(finger, first, plane_normal_world, direction_world, length)
+        self.sweep(pose, -normals[mid], [stripe], {finger: q}, follow=follow)
+        return True
+
+
+__all__ = [
+    "IK_TOLERANCE",
+    "MIN_STROKE",
+    "STROKE_MIN_SCORE",
+    "Explorer",
+    "ExplorerConfig",
+    "StripeSpec",
+    "TRANSITS",
+    "planning_config",
+]
