@@ -36,8 +36,8 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import FINGERTIP_RADIUS
-from hapticsim.envs.support import SUPPORTS, Support, SupportedBackend
-from hapticsim.envs.touch import Touch, TouchResult
+from hapticsim.envs.support import SUPPORTS, Support
+from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
@@ -52,7 +52,7 @@ Array = NDArray[np.float64]
 
 #: Fingers of the analytic hand (the MuJoCo hand's count when it is available).
 DEFAULT_FINGERS: int = 4
-class AnalyticBackend(SupportedBackend):
+class AnalyticBackend(TouchBackend):
     """Touches on the analytic ground truth (see the module docstring).
 
     Args:

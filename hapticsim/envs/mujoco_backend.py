@@ -33,8 +33,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
-from hapticsim.envs.support import Support, SupportedBackend
-from hapticsim.envs.touch import Touch, TouchResult
+from hapticsim.envs.support import Support
+from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
@@ -52,7 +52,7 @@ Array = NDArray[np.float64]
 FOLLOW_LEAD: float = 0.004
 
 
-class MujocoBackend(SupportedBackend):
+class MujocoBackend(TouchBackend):
     """Touches executed by the MuJoCo hand (see the module docstring).
 
     Args:

@@ -10,13 +10,11 @@ would hit the support.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import FINGERTIP_RADIUS
-from hapticsim.data.noise import add_noise
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
 
@@ -70,36 +68,3 @@ class Support:
         if self.kind == "table":
             return True
         return bool(np.linalg.norm(p[:2] - self.foot[:2]) < self.radius + self.clearance)
-
-
-class SupportedBackend:
-    """Base of the touch backends: the support holding the object in the current episode.
-
-    A backend sets ``self._support`` in ``reset``; touches that would hit it are unreachable.
-    It also has ``noise`` (sigma_N), and ``_truth`` and ``_rng`` for the episode, which the
-    shared noise step reads.
-    """
-
-    _support: Support | None = None
-    noise: float = 0.0
-    _truth: Any = None
-    _rng: Any = None
-
-    @property
-    def support(self) -> Support:
-        """The object's support in this episode."""
-        if self._support is None:
-            raise InvalidInputError("call `reset` first")
-        return self._support
-
-    def _reachable(self, point: NDArray[np.float64]) -> bool:
-        return not self.support.blocks(point)
-
-    def _noisy(
-        self, points: NDArray[np.float64], normals: NDArray[np.float64]
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The contacts with SPEC §5 noise of the backend's level (``self.noise``, at the
-        truth's size, from the episode's ``self._rng``) on top; copies without noise."""
-        if self.noise > 0:
-            return add_noise(points, normals, self.noise, self._truth.size, self._rng)
-        return points.copy(), normals.copy()

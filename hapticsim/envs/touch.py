@@ -30,12 +30,14 @@ A backend (:class:`TouchBackend`) executes touches: the analytic ray caster
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array
+from hapticsim.data.noise import add_noise
+from hapticsim.envs.support import Support
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.solid import Solid
@@ -234,15 +236,23 @@ class TouchResult:
         )
 
 
-class TouchBackend(Protocol):
-    """What executes touches on an object: the analytic ray caster or the MuJoCo hand.
+class TouchBackend:
+    """Base of what executes touches on an object: the analytic ray caster or the MuJoCo hand.
 
     A backend owns the object's placement: :meth:`reset` receives the shape drawn by the
-    environment and returns the ground truth as placed in its world.
+    environment and returns the ground truth as placed in its world. It keeps the support that
+    holds the object in the episode (``self._support``, set in ``reset``: touches that would
+    hit it are unreachable) and adds the sensor noise of its level to the contacts
+    (``noise``, sigma_N, at the truth's size, from the episode's generator ``self._rng``).
     """
 
     #: Number of fingers (action component 4 selects one).
     n_fingers: int
+    #: Relative sensor noise sigma_N (SPEC §5) added to the contacts.
+    noise: float = 0.0
+    _support: Support | None = None
+    _truth: Any = None
+    _rng: Any = None
 
     def reset(
         self, shape: Solid, rng: np.random.Generator, rough: Any = None
@@ -253,18 +263,33 @@ class TouchBackend(Protocol):
         estimate, centred at the rough position the environment will aim at; a backend that
         plans (the hand) plans on it.
         """
-        ...
+        raise NotImplementedError
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one touch aimed at `origin` (3,) [m, world], the object's rough position."""
-        ...
+        raise NotImplementedError
 
     def render(
         self, estimate: Superquadric | None, points: Array, width: int, height: int
     ) -> NDArray[np.uint8]:
         """An (height, width, 3) uint8 picture of the scene, the estimate and the contacts."""
-        ...
+        raise NotImplementedError
 
     def close(self) -> None:
         """Release resources (renderers, simulations)."""
-        ...
+
+    @property
+    def support(self) -> Support:
+        """The object's support in this episode."""
+        if self._support is None:
+            raise InvalidInputError("call `reset` first")
+        return self._support
+
+    def _reachable(self, point: Array) -> bool:
+        return not self.support.blocks(point)
+
+    def _noisy(self, points: Array, normals: Array) -> tuple[Array, Array]:
+        """The contacts with SPEC §5 noise of the backend's level on top; copies without."""
+        if self.noise > 0:
+            return add_noise(points, normals, self.noise, self._truth.size, self._rng)
+        return points.copy(), normals.copy()
