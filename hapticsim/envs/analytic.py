@@ -40,7 +40,6 @@ from hapticsim.envs.support import SUPPORTS, Support
 from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.geometry.rays import raycast
 from hapticsim.geometry.sections import section_walk
 from hapticsim.geometry.solid import Solid
 from hapticsim.tactile import PadLayout, estimate_contact, load_skin
@@ -142,26 +141,14 @@ class AnalyticBackend(TouchBackend):
         Raises:
             InvalidInputError: before :meth:`reset`, or for a finger the hand does not have.
         """
-        if self._truth is None or self._rng is None:
-            raise InvalidInputError("call `reset` before `touch`")
-        if touch.finger >= self.n_fingers:
-            raise InvalidInputError(
-                f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
-            )
+        self._check_touch(touch, True)
         start = time.perf_counter()
         truth = self._truth
-        origin = np.asarray(origin, dtype=np.float64)
-        far = 2.0 * truth.bounding_radius + 2.0 * float(np.linalg.norm(origin - truth.center))
-        s = raycast(truth, origin + far * touch.approach, -touch.approach, far)
         t0 = self._clock
         self._clock += self.touch_seconds
-        if s is None:
-            return TouchResult.empty("missed", time.perf_counter() - start, "the ray missed")
-        first = origin + (far - s) * touch.approach
-        if not self._reachable(first):
-            return TouchResult.empty(
-                "blocked", time.perf_counter() - start, "the support is in the way"
-            )
+        first, failed = self._approach(truth, touch, origin, start, "the ray missed")
+        if first is None:
+            return failed  # type: ignore[return-value]
         points = [first]
         n_steps = int(round(touch.stroke_length / self.stroke_spacing))
         if n_steps > 0:

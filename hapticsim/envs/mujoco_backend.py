@@ -37,7 +37,6 @@ from hapticsim.envs.support import Support
 from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
-from hapticsim.geometry.rays import raycast
 from hapticsim.geometry.sections import section_walk, stroke_plane
 from hapticsim.geometry.solid import Solid
 from hapticsim.sim.rough import RoughObject
@@ -176,26 +175,13 @@ class MujocoBackend(TouchBackend):
         Raises:
             InvalidInputError: before :meth:`reset`, or for a finger the hand does not have.
         """
-        if self._explorer is None or self._truth is None or self._rng is None:
-            raise InvalidInputError("call `reset` before `touch`")
-        if not 0 <= touch.finger < self.n_fingers:
-            raise InvalidInputError(
-                f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
-            )
+        self._check_touch(touch, self._explorer is not None)
         start = time.perf_counter()
         ex = self._explorer
-        rough = ex.rough.shape
-        origin = np.asarray(origin, dtype=np.float64)
-        d = touch.approach
-        far = 2.0 * rough.bounding_radius + 2.0 * float(np.linalg.norm(origin - rough.center))
-        s = raycast(rough, origin + far * d, -d, far)
-        if s is None:
-            return TouchResult.empty("missed", time.perf_counter() - start, "no rough surface")
-        aim = origin + (far - s) * d
-        if not self._reachable(aim):
-            return TouchResult.empty(
-                "blocked", time.perf_counter() - start, "the stand is in the way"
-            )
+        assert ex is not None
+        aim, failed = self._approach(ex.rough.shape, touch, origin, start, "no rough surface")
+        if aim is None:
+            return failed  # type: ignore[return-value]
         before = len(ex.recorder)
         message = ""
         try:

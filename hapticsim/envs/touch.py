@@ -29,6 +29,7 @@ A backend (:class:`TouchBackend`) executes touches: the analytic ray caster
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,6 +41,7 @@ from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import Support
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.geometry.rays import raycast
 from hapticsim.geometry.solid import Solid
 
 Array = NDArray[np.float64]
@@ -287,6 +289,36 @@ class TouchBackend:
 
     def _reachable(self, point: Array) -> bool:
         return not self.support.blocks(point)
+
+    def _check_touch(self, touch: Touch, ready: bool) -> None:
+        """Reject a touch before :meth:`reset` (`ready` False) or with a finger the hand does
+        not have."""
+        if not ready or self._truth is None or self._rng is None:
+            raise InvalidInputError("call `reset` before `touch`")
+        if not 0 <= touch.finger < self.n_fingers:
+            raise InvalidInputError(
+                f"`finger` must be in [0, {self.n_fingers - 1}], got {touch.finger}"
+            )
+
+    def _approach(
+        self, shape: Solid, touch: Touch, origin: Array, start: float, missed: str
+    ) -> tuple[Array | None, TouchResult | None]:
+        """Where the approach along ``touch.approach`` towards `origin` (3,) [m, world] first
+        meets `shape`: ``(point, None)``, or ``(None, result)`` for a ray that misses (the
+        result's message `missed`) or a point the support blocks (`start`: the touch's
+        ``time.perf_counter()``)."""
+        origin = np.asarray(origin, dtype=np.float64)
+        d = touch.approach
+        far = 2.0 * shape.bounding_radius + 2.0 * float(np.linalg.norm(origin - shape.center))
+        s = raycast(shape, origin + far * d, -d, far)
+        if s is None:
+            return None, TouchResult.empty("missed", time.perf_counter() - start, missed)
+        point = origin + (far - s) * d
+        if not self._reachable(point):
+            return None, TouchResult.empty(
+                "blocked", time.perf_counter() - start, "the support is in the way"
+            )
+        return point, None
 
     def _noisy(self, points: Array, normals: Array) -> tuple[Array, Array]:
         """The contacts with SPEC §5 noise of the backend's level on top; copies without."""
