@@ -21,10 +21,12 @@ from pathlib import Path
 _PACKAGE = Path(__file__).resolve().parent
 #: The modules with ``cache=True`` functions, relative to the package.
 COMPILED: tuple[str, ...] = (
-    "geometry/_eof_compiled.py",
+    "geometry/eof_compiled.py",
     "geometry/_rays_compiled.py",
     "fitting/_lm_compiled.py",
     "fitting/_ga_compiled.py",
+    "fitting/_ml_compiled.py",
+    "fitting/_problem_compiled.py",
     "geometry/_sampling_compiled.py",
 )
 #: Modules whose constants the kernels fold into their machine code (the parameter layout,
@@ -57,9 +59,10 @@ def ensure_fresh() -> None:
         current = fingerprint()
         if stamp.is_file() and stamp.read_text().strip() == current:
             return
-        for name in COMPILED:
-            module = _PACKAGE / name
-            for cached in (module.parent / "__pycache__").glob(f"{module.stem}.*.nb[ic]"):
+        # Every numba cache file beside the compiled modules, also those of a module renamed or
+        # removed since (whose stale files nothing else would delete).
+        for folder in sorted({(_PACKAGE / name).parent for name in COMPILED}):
+            for cached in (folder / "__pycache__").glob("*.nb[ic]"):
                 cached.unlink(missing_ok=True)
         for old in marker_dir().glob("hapticsim-ready-*"):
             old.unlink(missing_ok=True)

@@ -12,7 +12,9 @@ One algorithm per module, like ``scipy.optimize._lsq``:
 - :mod:`~hapticsim.fitting.hybrid`: H and nH (genetic algorithm, then least squares);
 - :mod:`~hapticsim.fitting.likelihood`, :mod:`~hapticsim.fitting.ml`: nML, a maximum-likelihood
   fit for noisy data beyond the paper (compiled residuals in
-  :mod:`hapticsim.geometry._eof_compiled`);
+  :mod:`~hapticsim.fitting._ml_compiled`);
+- :mod:`~hapticsim.fitting.problem`: the residual vector the compiled solvers minimise, the
+  paper's EOF or nML's (dispatch in :mod:`~hapticsim.fitting._problem_compiled`);
 - :mod:`~hapticsim.fitting.methods`: method names and the default budget;
 - :mod:`~hapticsim.fitting.result`: :class:`FitResult`.
 """

@@ -14,12 +14,8 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import (
-    JIT,
-    problem_residuals_posed,
-    residual_length,
-    vector_fields,
-)
+from hapticsim.fitting._problem_compiled import problem_residuals_posed, residual_length
+from hapticsim.geometry.eof_compiled import JIT, vector_fields
 from hapticsim.geometry.layout import I_A, I_CENTER, I_EPS, I_TAPER, N_PARAMS
 
 #: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
@@ -148,8 +144,10 @@ def distance_bound(genes: np.ndarray, other: np.ndarray, size: float) -> float:
         + (genes[I_CENTER + 1] - other[I_CENTER + 1]) ** 2
         + (genes[I_CENTER + 2] - other[I_CENTER + 2]) ** 2
     )  # fmt: skip
-    return d_c / (0.2 * size) + (
-        abs(genes[I_EPS] - other[I_EPS]) + abs(genes[I_EPS + 1] - other[I_EPS + 1])) / 0.5
+    return (
+        d_c / (0.2 * size)
+        + (abs(genes[I_EPS] - other[I_EPS]) + abs(genes[I_EPS + 1] - other[I_EPS + 1])) / 0.5
+    )
 
 
 @njit(**JIT)
@@ -329,7 +327,7 @@ def _evaluate(
 ) -> None:
     """Fitness of each row of genes/rot into `eof`: ``sum(r^2) / n`` of the problem's residuals
     (the EOF [m^2] for the paper's model)."""
-    count, n = genes.shape[0], problem[0].shape[1]
+    count, n = genes.shape[0], problem.points.shape[1]
     m = residual_length(problem)
     r = np.empty((count, m))
     a, eps, taper, center = vector_fields(genes)
@@ -354,7 +352,7 @@ def ga_run(
 
     Args:
         problem: the residuals whose sum of squares is the fitness (see
-            :func:`hapticsim.geometry._eof_compiled.residual_length`).
+            :class:`hapticsim.fitting.problem.Problem`).
         seeds: (k, 13) start vectors, clipped; seed_rot: (k, 3, 3) their rotations.
         cap: the most evaluations; rng: the generator of every random choice.
         max_generations: -1 for no limit.

@@ -4,7 +4,7 @@ One implementation serves every least-squares stage of the fitter: LS and nLS, t
 H and nH, and the multi-start steps of the hybrid (seed steps, probes), which run
 :func:`lm_multi` over many starts, and nML's stages, on whichever residual vector the *problem*
 holds (the paper's EOF residuals or the maximum-likelihood ones, see
-:func:`hapticsim.geometry._eof_compiled.residual_length`). The whole loop runs in compiled code:
+:class:`hapticsim.fitting.problem.Problem`). The whole loop runs in compiled code:
 no Python call per evaluation.
 
 The method (Marquardt's scaled damping with Nielsen's update of the damping):
@@ -32,12 +32,12 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import (
-    JIT,
+from hapticsim.fitting._problem_compiled import (
     problem_jacobian,
     problem_residuals,
     residual_length,
 )
+from hapticsim.geometry.eof_compiled import JIT
 from hapticsim.geometry.layout import N_PARAMS
 
 #: Evaluations a Jacobian counts for (forward differences over 13 parameters, SPEC §3).
@@ -117,7 +117,7 @@ def lm_run(
 
     Args:
         problem: the residuals, paper EOF or ML (see
-            :func:`hapticsim.geometry._eof_compiled.residual_length`).
+            :class:`hapticsim.fitting.problem.Problem`).
         x0: (13,) start, clipped into [lower, upper].
         lower, upper, scale: (13,) box and typical magnitudes.
         max_evaluations: the most evaluations to use (>= 1 for anything to happen).

@@ -48,7 +48,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import _eof_compiled as kernel
+from hapticsim.fitting import _ml_compiled as kernel
+from hapticsim.fitting.problem import Problem, problem_residuals
 from hapticsim.geometry.eof import ContactSet
 from hapticsim.geometry.rotations import rotvec_to_matrix
 from hapticsim.geometry.superquadric import SLICE_A, SLICE_CENTER, SLICE_ROTVEC
@@ -139,7 +140,7 @@ class Likelihood:
 
     def settings(self) -> Array:
         """The (ML_SETTINGS,) settings array of the compiled ML residuals
-        (``_eof_compiled.ML_*``), with the per-contact multipliers after them
+        (``_ml_compiled.ML_*``), with the per-contact multipliers after them
         ((ML_SETTINGS + 2 n,)) when there are any."""
         out = np.zeros(kernel.ML_SETTINGS)
         out[kernel.ML_POINT_WEIGHT] = 1.0 / self.point_sigma
@@ -220,8 +221,8 @@ def contact_distances(contacts: ContactSet, vector: Array) -> Array:
     """The first-order signed distances d (n,) [m] of the contacts to a parameter vector's
     surface (positive outside; module docstring)."""
     plain = Likelihood(noise=1.0, length=1.0)
-    problem = contacts.problem(0.0, True, plain.settings(), None)
-    return contacts.problem_residuals(problem, vector)[0, : contacts.count]
+    problem = Problem.ml(contacts, plain.settings())
+    return problem_residuals(contacts, problem, vector)[0, : contacts.count]
 
 
 def estimate_noise(

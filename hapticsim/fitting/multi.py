@@ -62,6 +62,7 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.least_squares import least_squares_run
 from hapticsim.fitting.likelihood import TRIM, TRIM_FACTOR, Likelihood
 from hapticsim.fitting.ml import MLOptions, ml_objective
+from hapticsim.fitting.problem import Problem, problem_residuals
 from hapticsim.geometry.eof import ContactSet
 from hapticsim.geometry.superquadric import N_PARAMS, Superquadric
 
@@ -126,8 +127,7 @@ class _Data:
         self.n = len(points)
         self.size = float(np.max(np.linalg.norm(points - points.mean(axis=0), axis=1)))
         self.contacts = ContactSet.from_arrays(points, normals)
-        self.problem = self.contacts.problem(0.0, True, Likelihood(noise=1.0, length=1.0)
-                                             .settings(), None)  # fmt: skip
+        self.problem = Problem.ml(self.contacts, Likelihood(noise=1.0, length=1.0).settings())
         self.given = noise
         self.size_hint = size_hint
         self.evaluations = 0
@@ -140,7 +140,7 @@ class _Data:
 
     def misfit(self, vectors: Array) -> tuple[Array, Array]:
         """Per part and contact: signed distances (K, n) [m] and normal differences (K, n)."""
-        rows = self.contacts.problem_residuals(self.problem, vectors)
+        rows = problem_residuals(self.contacts, self.problem, vectors)
         n = self.n
         e = rows[:, n : 4 * n].reshape(len(vectors), 3, n)
         return rows[:, :n], np.linalg.norm(e, axis=1)

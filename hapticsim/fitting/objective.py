@@ -14,7 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
-from hapticsim.geometry import _eof_compiled as kernel
+from hapticsim.fitting._problem_compiled import problem_residuals_posed
+from hapticsim.fitting.problem import Problem, problem_residuals
 from hapticsim.geometry.eof import ContactSet, check_distance
 from hapticsim.geometry.rotations import matrix_to_rotvec
 from hapticsim.geometry.superquadric import (
@@ -122,7 +123,8 @@ class Objective:
         self.count = int(points_world.shape[0])
         self.bounds = Bounds.from_points(points_world)
         self.contacts = ContactSet.from_arrays(points_world, normals_world)
-        self.problem = self.contacts.problem(self.lam, self.tapered, settings, free)
+        self.problem = (Problem.eof(self.contacts, self.lam, self.tapered) if settings is None
+                        else Problem.ml(self.contacts, settings, free))  # fmt: skip
         self.ml = settings is not None
         self.evaluations = 0
         self.best_vector: Array | None = None
@@ -177,10 +179,10 @@ class Objective:
 
     def _ml_residuals(self, v: Array, rotations: Array | None) -> Array:
         if rotations is None:
-            return self.contacts.problem_residuals(self.problem, v)
+            return problem_residuals(self.contacts, self.problem, v)
         rot = np.ascontiguousarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
-        out = np.empty((v.shape[0], kernel.residual_length(self.problem)))
-        kernel.problem_residuals_posed(
+        out = np.empty((v.shape[0], self.problem.length))
+        problem_residuals_posed(
             self.problem, np.ascontiguousarray(v[:, SLICE_A]),
             np.ascontiguousarray(v[:, SLICE_EPS]), np.ascontiguousarray(v[:, SLICE_TAPER]), rot,
             np.ascontiguousarray(v[:, SLICE_CENTER]), out, self.contacts.tally,
@@ -192,7 +194,7 @@ class Objective:
         best vector, whose value was in the old weights; counting and history go on."""
         if not self.ml:
             raise ValueError("reweight needs an objective with ML settings")
-        self.problem[6][:] = np.asarray(settings, dtype=np.float64)
+        self.problem.settings[:] = np.asarray(settings, dtype=np.float64)
         self.best_vector, self.best_eof = None, np.inf
 
     def record(

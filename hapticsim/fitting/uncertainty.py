@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim.fitting.objective import Bounds
+from hapticsim.fitting.problem import Problem, problem_jacobian
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
 from hapticsim.geometry import functions as fn
 from hapticsim.geometry.eof import ContactSet, check_distance
@@ -264,8 +265,8 @@ def _contact_jacobians(
         return np.empty((0, 4, N_PARAMS)), np.empty(0, dtype=bool)
     nrm = estimate.normals(pts) if normals is None else np.asarray(normals, dtype=np.float64)
     contacts = ContactSet.from_arrays(pts, nrm)
-    problem = contacts.problem(0.0, True, Likelihood(noise=1.0, length=1.0).settings(), None)
-    _, jac = contacts.problem_jacobian(problem, estimate.to_vector())
+    problem = Problem.ml(contacts, Likelihood(noise=1.0, length=1.0).settings())
+    _, jac = problem_jacobian(contacts, problem, estimate.to_vector())
     sigma_p = max(float(noise), 1e-12)
     weights = np.array([1.0 / sigma_p] + [float(np.mean(estimate.a)) / sigma_p] * 3)
     rows = np.arange(k)[:, None] + k * np.arange(4)[None, :]  # d, e_x, e_y, e_z of each

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import JIT, log_inside_outside, untapered
+from hapticsim.geometry.eof_compiled import JIT, log_inside_outside, untapered
 
 
 @njit(**JIT)

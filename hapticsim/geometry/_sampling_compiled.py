@@ -2,12 +2,12 @@
 distances to the surface, behind its quality measures (:mod:`hapticsim.geometry.sampling`).
 
 They use the one compiled inside-outside function
-(:func:`hapticsim.geometry._eof_compiled.log_inside_outside`); each loop over points is
+(:func:`hapticsim.geometry.eof_compiled.log_inside_outside`); each loop over points is
 straight-line code that LLVM vectorises.
 
 A superquadric is passed as ``shape`` (7,) = (a1, a2, a3, eps1, eps2, tx, ty), ``rot`` (3, 3)
 (columns: the body axes in the world frame) and ``center`` (3,) [m]: see
-:func:`hapticsim.geometry._eof_compiled.unpack`.
+:func:`hapticsim.geometry.eof_compiled.unpack`.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry._eof_compiled import (
+from hapticsim.geometry.eof_compiled import (
     JIT,
     _logaddexp_shares,
     exp_,

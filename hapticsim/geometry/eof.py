@@ -1,7 +1,7 @@
 """Error of fit of contact data to superquadrics (SPEC §2, paper eqs. 7-9).
 
 The public face of the one EOF implementation, the compiled kernel
-:mod:`hapticsim.geometry._eof_compiled`; the fitter, the quality measure theta and the
+:mod:`hapticsim.geometry.eof_compiled`; the fitter, the quality measure theta and the
 environment's fit schedule all call it.
 
 - :func:`contact_residuals` and :func:`error_of_fit` take superquadric parameter arrays with
@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import _eof_compiled as kernel
+from hapticsim.geometry import eof_compiled as kernel
 from hapticsim.geometry.layout import (
     N_PARAMS,
     SLICE_A,
@@ -74,51 +74,6 @@ class ContactSet:
     def count(self) -> int:
         """The number of contacts n."""
         return int(self.points.shape[1])
-
-    def problem(
-        self, lam: float, tapered: bool, settings: Array | None = None, free: Array | None = None
-    ) -> tuple:
-        """The tuple the compiled least squares and genetic algorithm minimise.
-
-        Args:
-            lam, tapered: the paper EOF's lambda and distance mode.
-            settings: None for the paper's EOF residuals; else the (8,) settings of the
-                maximum-likelihood residuals (``_eof_compiled.ML_*`` layout), optionally
-                followed by the per-contact multipliers of the distance and of the normal
-                residuals ((8 + 2 n,)).
-            free: (f, 3) float free-space points [m, world] of the ML residuals, or None.
-
-        Returns:
-            ``(points, normals, with_normals, lam, tapered, model, settings, free)`` (see
-            :func:`hapticsim.geometry._eof_compiled.residual_length`).
-        """
-        pts = np.zeros((3, 0)) if free is None else np.asarray(free, dtype=np.float64).T
-        if settings is None:  # None, not an array: the compiled code specialises on its type
-            return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
-                    kernel.MODEL_EOF, None, np.ascontiguousarray(pts))  # fmt: skip
-        ml = np.asarray(settings, np.float64)
-        if ml.shape not in ((kernel.ML_SETTINGS,), (kernel.ML_SETTINGS + 2 * self.count,)):
-            raise InvalidInputError(
-                f"`settings` must be ({kernel.ML_SETTINGS},) or ({kernel.ML_SETTINGS} + 2 x "
-                f"{self.count},), got {ml.shape}"
-            )
-        return (self.points, self.normals, self.with_normals, float(lam), bool(tapered),
-                kernel.MODEL_ML, np.ascontiguousarray(ml), np.ascontiguousarray(pts))  # fmt: skip
-
-    def problem_residuals(self, problem: tuple, vectors: Array) -> Array:
-        """Residual vectors (P, m) of a :meth:`problem` at P parameter vectors (P, 13)."""
-        v = np.ascontiguousarray(vectors, dtype=np.float64).reshape(-1, N_PARAMS)
-        out = np.empty((v.shape[0], kernel.residual_length(problem)))
-        kernel.problem_residuals(problem, v, out, self.tally)
-        return out
-
-    def problem_jacobian(self, problem: tuple, vector: Array) -> tuple[Array, Array]:
-        """Residual vector (m,) of a :meth:`problem` and its analytic Jacobian (m, 13)."""
-        x = np.ascontiguousarray(vector, dtype=np.float64).reshape(N_PARAMS)
-        m = kernel.residual_length(problem)
-        r, jac_t = np.empty(m), np.empty((N_PARAMS, m))
-        kernel.problem_jacobian(problem, x, r, jac_t, self.tally)
-        return r, jac_t.T
 
     def residuals(self, vectors: Array, lam: float, tapered: bool) -> Array:
         """Residuals (P, n) [m] of P parameter vectors (P, 13)."""

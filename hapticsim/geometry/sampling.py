@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.geometry import _sampling_compiled as kernel
 from hapticsim.geometry import functions as fn
-from hapticsim.geometry._eof_compiled import TINY
+from hapticsim.geometry.eof_compiled import TINY
 
 Array = NDArray[np.float64]
 

@@ -510,8 +510,8 @@ class Superquadric(Solid):
     ) -> Array:
         """Ray casting, compiled (:func:`hapticsim.geometry._rays_compiled.first_hits`): only
         each ray's chord through the bounding sphere is searched."""
-        from hapticsim.geometry._eof_compiled import unpack
         from hapticsim.geometry._rays_compiled import first_hits
+        from hapticsim.geometry.eof_compiled import unpack
 
         o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3).T)
         d = np.ascontiguousarray(np.asarray(directions, dtype=np.float64).reshape(-1, 3).T)

@@ -99,6 +99,7 @@ def test_expected_gains_are_largest_where_no_contact_is() -> None:
 def test_expected_surface_reduction_is_the_posterior_update() -> None:
     """Against the Gaussian update written out, with Jacobians by central differences."""
     from hapticsim.fitting.likelihood import Likelihood
+    from hapticsim.fitting.problem import Problem, problem_residuals
     from hapticsim.fitting.uncertainty import SURFACE_SAMPLES, expected_surface_reduction
     from hapticsim.geometry.eof import ContactSet
 
@@ -107,14 +108,14 @@ def test_expected_surface_reduction_is_the_posterior_update() -> None:
 
     def jacobian(pts: np.ndarray, nrm: np.ndarray) -> np.ndarray:  # (4 k, 13) by differences
         contacts = ContactSet.from_arrays(pts, nrm)
-        problem = contacts.problem(0.0, True, Likelihood(noise=1.0, length=1.0).settings())
+        problem = Problem.ml(contacts, Likelihood(noise=1.0, length=1.0).settings())
         m = 4 * len(pts)
         cols = []
         for k in range(13):
             h = 1e-7 * max(abs(x[k]), 1e-2)
             up, down = x.copy(), x.copy()
             up[k], down[k] = x[k] + h, x[k] - h
-            r = contacts.problem_residuals(problem, np.vstack([up, down]))[:, :m]
+            r = problem_residuals(contacts, problem, np.vstack([up, down]))[:, :m]
             cols.append((r[0] - r[1]) / (2 * h))
         return np.array(cols).T
 

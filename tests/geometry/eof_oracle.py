@@ -1,6 +1,6 @@
 """Test oracle: the vectorised numpy error-of-fit kernel (SPEC §2, paper eqs. 7-9).
 
-This was hapticsim's EOF before the compiled kernel (``hapticsim/geometry/_eof_compiled.py``)
+This was hapticsim's EOF before the compiled kernel (``hapticsim/geometry/eof_compiled.py``)
 replaced it; it stays here, outside the package, only so that the tests can check the compiled
 kernel against an independent implementation (the two agree to 1e-10 relative). Its own
 description follows.

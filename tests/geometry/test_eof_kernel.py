@@ -7,7 +7,7 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric, random_rotation
-from hapticsim.geometry import _eof_compiled as kernel
+from hapticsim.geometry import eof_compiled as kernel
 from hapticsim.geometry.eof import DISTANCES, ContactSet, contact_residuals
 from hapticsim.geometry.rotations import rotvec_to_matrix
 from tests.geometry import eof_oracle as oracle

@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hapticsim.fitting import _ml_compiled as kernel
+from hapticsim.fitting._problem_compiled import problem_residuals_posed
 from hapticsim.fitting.likelihood import Likelihood, anchor_gap, extent_anchor
+from hapticsim.fitting.problem import Problem, problem_jacobian, problem_residuals
 from hapticsim.geometry import Superquadric, random_rotation
-from hapticsim.geometry import _eof_compiled as kernel
 from hapticsim.geometry.eof import ContactSet
 from hapticsim.geometry.rotations import rotvec_to_matrix
 from tests.geometry import eof_oracle as oracle
@@ -29,7 +31,7 @@ def test_distance_is_exact_on_a_sphere_and_normal_residual_is_the_vector_differe
     normals = rng.normal(size=(30, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     contacts = ContactSet.from_arrays(points, normals)
-    r = contacts.problem_residuals(contacts.problem(0.0, True, _plain(30)), sphere.to_vector())[0]
+    r = problem_residuals(contacts, Problem.ml(contacts, _plain(30)), sphere.to_vector())[0]
     # (1 - s) / |grad log G| with G = |p| / R: exactly |p| - R, inside and outside.
     np.testing.assert_allclose(r[:30], radius - 0.05, rtol=1e-12, atol=1e-15)
     e_body = r[30:120].reshape(3, 30).T  # the normal residual is in the body frame
@@ -42,7 +44,7 @@ def test_distance_on_a_box_face_is_the_orthogonal_distance() -> None:
     # Off the +x face, away from its edges: the radial distance overestimates, this does not.
     points = np.array([[0.032, 0.01, 0.02], [0.029, -0.015, 0.01], [0.031, 0.0, 0.0]])
     contacts = ContactSet.from_arrays(points, np.tile([1.0, 0.0, 0.0], (3, 1)))
-    r = contacts.problem_residuals(contacts.problem(0.0, True, _plain(3)), box.to_vector())[0]
+    r = problem_residuals(contacts, Problem.ml(contacts, _plain(3)), box.to_vector())[0]
     # Measured: within 2e-5 m of x - a1 (the eps = 0.1 face is slightly curved).
     np.testing.assert_allclose(r[:3], points[:, 0] - 0.03, atol=2e-5)
     radial = oracle.contact_residuals(points, None, box.a, box.eps, box.taper, box.rotation,
@@ -80,9 +82,9 @@ def test_ml_jacobian_matches_central_differences(seed: int) -> None:
     step = 1e-6 * np.r_[sq.a, [1.0] * 7, [float(np.mean(sq.a))] * 3]
     for nrm in (normals, None):
         contacts = ContactSet.from_arrays(points, nrm)
-        problem = contacts.problem(0.0, True, lik.settings(), free)
-        r, jac = contacts.problem_jacobian(problem, x)
-        np.testing.assert_allclose(r, contacts.problem_residuals(problem, x)[0], rtol=1e-12)
+        problem = Problem.ml(contacts, lik.settings(), free)
+        r, jac = problem_jacobian(contacts, problem, x)
+        np.testing.assert_allclose(r, problem_residuals(contacts, problem, x)[0], rtol=1e-12)
         assert len(r) == (4 if nrm is not None else 1) * len(points) + kernel.ML_PRIORS + len(free)
         prior = r[len(r) - len(free) - 6 : len(r) - len(free)]
         np.testing.assert_allclose(prior, anchor_gap(x, held) / 0.004, rtol=1e-12, atol=1e-12)
@@ -92,12 +94,12 @@ def test_ml_jacobian_matches_central_differences(seed: int) -> None:
             up[k] += step[k]
             down[k] -= step[k]
             numeric[:, k] = (
-                contacts.problem_residuals(problem, up)[0]
-                - contacts.problem_residuals(problem, down)[0]
+                problem_residuals(contacts, problem, up)[0]
+                - problem_residuals(contacts, problem, down)[0]
             ) / (2 * step[k])
         # The hinge of a free-space point has a kink at the surface: compare away from it.
         active = r[-len(free) :] > 0
-        d_free = contacts.problem_residuals(problem, x)[0][-len(free) :]
+        d_free = problem_residuals(contacts, problem, x)[0][-len(free) :]
         near = np.abs(d_free) < 1e-3
         rows = np.ones(len(r), dtype=bool)
         rows[len(r) - len(free) :] = ~near | ~active
@@ -111,13 +113,13 @@ def test_population_and_posed_entry_points_agree() -> None:
     sq, points, normals, free = _case(11)
     lik = Likelihood(noise=0.1, length=0.04, robust=3.0, taper_prior=0.3)
     contacts = ContactSet.from_arrays(points, normals)
-    problem = contacts.problem(0.0, True, lik.settings(), free)
+    problem = Problem.ml(contacts, lik.settings(), free)
     rng = np.random.default_rng(1)
     vectors = sq.to_vector() + rng.normal(size=(5, 13)) * 0.01
-    by_vector = contacts.problem_residuals(problem, vectors)
+    by_vector = problem_residuals(contacts, problem, vectors)
     rot = rotvec_to_matrix(vectors[:, 7:10])
     out = np.empty_like(by_vector)
-    kernel.problem_residuals_posed(
+    problem_residuals_posed(
         problem, vectors[:, 0:3].copy(), vectors[:, 3:5].copy(), vectors[:, 5:7].copy(), rot,
         vectors[:, 10:13].copy(), out, contacts.tally,
     )  # fmt: skip
