@@ -31,8 +31,9 @@ Array = NDArray[np.float64]
 
 #: What a fit update did.
 FIT_STATUSES: tuple[str, ...] = ("too_few_contacts", "full", "refine", "kept", "failed")
-#: Fitting methods (SPEC §3; the environment always measures normals); ``multi`` for full fits
-#: only (:mod:`hapticsim.fitting.multi`).
+#: The methods a schedule accepts (SPEC §3). Every touch records a normal (exact backends measure
+#: it, the tactile one estimates it from the taxel image); LS and H ignore them. ``multi`` for full
+#: fits only (:mod:`hapticsim.fitting.multi`).
 _METHODS: tuple[str, ...] = ("nH", "nLS", "H", "LS", "multi")
 
 

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hapticsim.geometry.eof_compiled import JIT, log_inside_outside, untapered
+from hapticsim.geometry.eof_compiled import JIT, log_inside_outside, shape_fields, untapered
 
 
 @njit(**JIT)
@@ -36,15 +36,7 @@ def first_hits(
         radius: radius of a sphere about the centre that contains the solid [m].
         out: (k,) float: s [m] of the first sample inside, NaN for rays that miss.
     """
-    a1, a2, a3, e1, e2, tx, ty = (
-        shape[0],
-        shape[1],
-        shape[2],
-        shape[3],
-        shape[4],
-        shape[5],
-        shape[6],
-    )
+    a1, a2, a3, e1, e2, tx, ty = shape_fields(shape)
     for r in range(origins.shape[1]):
         # The ray in the body frame: p(s) = b + s u.
         d0, d1, d2 = origins[0, r] - center[0], origins[1, r] - center[1], origins[2, r] - center[2]

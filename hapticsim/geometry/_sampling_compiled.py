@@ -22,6 +22,7 @@ from hapticsim.geometry.eof_compiled import (
     _logaddexp_shares,
     exp_,
     log_inside_outside,
+    shape_fields,
     unpack,
     untapered,
 )
@@ -43,15 +44,7 @@ def count_outside(
     points: np.ndarray, shape: np.ndarray, rot: np.ndarray, center: np.ndarray
 ) -> int:
     """How many of the world points (3, n) lie strictly outside the solid (``F > 1``)."""
-    a1, a2, a3, e1, e2, tx, ty = (
-        shape[0],
-        shape[1],
-        shape[2],
-        shape[3],
-        shape[4],
-        shape[5],
-        shape[6],
-    )
+    a1, a2, a3, e1, e2, tx, ty = shape_fields(shape)
     c0, c1, c2 = center[0], center[1], center[2]
     r00, r01, r02 = rot[0, 0], rot[0, 1], rot[0, 2]
     r10, r11, r12 = rot[1, 0], rot[1, 1], rot[1, 2]
@@ -95,9 +88,7 @@ def interior_points(
     """The interior sample of a solid from fixed candidates (as :func:`interior_outside` draws
     it): the kept candidates among the first `count`, scaled by a, tapered and posed, (3, kept)
     world points [m]."""
-    a1, a2, a3, e1, e2, tx, ty = (
-        shape[0], shape[1], shape[2], shape[3], shape[4], shape[5], shape[6],
-    )  # fmt: skip
+    a1, a2, a3, e1, e2, tx, ty = shape_fields(shape)
     index = _kept(unit, log_unit, accept, top, count, e1, e2, tx, ty)
     out = np.empty((3, index.shape[0]))
     for i in range(index.shape[0]):
@@ -130,19 +121,8 @@ def interior_outside(
     Returns:
         ``(outside, kept)``: kept points outside the other solid, and points kept.
     """
-    a1, a2, a3, e1, e2, tx, ty = (
-        shape[0],
-        shape[1],
-        shape[2],
-        shape[3],
-        shape[4],
-        shape[5],
-        shape[6],
-    )
-    b1, b2, b3, f1, f2, sx, sy = (
-        other_shape[0], other_shape[1], other_shape[2], other_shape[3], other_shape[4],
-        other_shape[5], other_shape[6],
-    )  # fmt: skip
+    a1, a2, a3, e1, e2, tx, ty = shape_fields(shape)
+    b1, b2, b3, f1, f2, sx, sy = shape_fields(other_shape)
     index = _kept(unit, log_unit, accept, top, count, e1, e2, tx, ty)
     # world = R b + c; the other solid's body frame: R_o^T (world - c_o) = M b + t, M = R_o^T R.
     m = np.empty((3, 3))
@@ -176,15 +156,7 @@ def _radial_point(
 ) -> tuple[float, float, float, float, float, float]:
     """The surface point on the ray through a tapered body point q, and the unit outward normal
     there: ``(x, y, z, nx, ny, nz)`` in the body frame."""
-    a1, a2, a3, e1, e2, tx, ty = (
-        shape[0],
-        shape[1],
-        shape[2],
-        shape[3],
-        shape[4],
-        shape[5],
-        shape[6],
-    )
+    a1, a2, a3, e1, e2, tx, ty = shape_fields(shape)
     xs, ys, _, _ = untapered(qx, qy, qz, a3, tx, ty)
     log_f, phu, phv, psg, psw = log_inside_outside(xs, ys, qz, a1, a2, a3, e1, e2)
     s = exp_(log_f * (-0.5 * e1))

@@ -69,6 +69,12 @@ def unpack(sq) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001 - a
     return shape, np.ascontiguousarray(sq.rotation), np.ascontiguousarray(sq.center)
 
 
+@njit(**INLINE)
+def shape_fields(shape: np.ndarray) -> tuple[float, float, float, float, float, float, float]:
+    """``(a1, a2, a3, eps1, eps2, tx, ty)`` of an :func:`unpack` shape (7,) as scalars."""
+    return shape[0], shape[1], shape[2], shape[3], shape[4], shape[5], shape[6]
+
+
 # ---------------------------------------------------------------------------- elementary
 @intrinsic
 def _f64_bits(typingctx, x):  # type: ignore[no-untyped-def]
