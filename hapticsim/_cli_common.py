@@ -8,6 +8,9 @@ import json
 import sys
 from typing import Any, NoReturn
 
+from hapticsim._validate import did_you_mean
+from hapticsim.constants import MAX_INT
+
 EXIT_BAD_INPUT = 2
 #: Exit status after Ctrl-C (128 + SIGINT, as a shell reports it).
 EXIT_INTERRUPTED = 130
@@ -25,7 +28,6 @@ class _Parser(argparse.ArgumentParser):
     def _check_value(self, action: argparse.Action, value: Any) -> None:
         # argparse's "invalid choice" message, with the choice one edit away
         if action.choices is not None and value not in action.choices:
-            from hapticsim._validate import did_you_mean
 
             choices = ", ".join(map(repr, action.choices))
             raise argparse.ArgumentError(
@@ -68,7 +70,6 @@ def _positive_float(text: str) -> float:
 def _seed(text: str) -> int:
     """argparse type of ``--seed``: an int in [0, 2**62] (``numpy.random.default_rng`` takes any
     int >= 0; the bound is the one every integer argument has, :data:`constants.MAX_INT`)."""
-    from hapticsim.constants import MAX_INT
 
     try:
         value = int(text)

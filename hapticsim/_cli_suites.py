@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim._cli_common import _Parser, _positive_int, _print_json, _seed
+from hapticsim.benchmarks.comparison import evaluate_policy
 from hapticsim.errors import InvalidInputError
 
 
@@ -115,8 +116,6 @@ def add_suite_parser(sub: Any) -> None:
 
 
 def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
-    from hapticsim.benchmarks.comparison import evaluate_policy
-
     result = evaluate_policy(
         args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
         touches=args.touches, seed=args.seed, workers=args.workers, progress=not args.quiet,

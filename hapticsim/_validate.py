@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.constants import MAX_COORDINATE, MAX_INT, MIN_LENGTH
 from hapticsim.errors import InvalidInputError
 
 
@@ -108,7 +109,6 @@ def physical_points(value: Any, name: str = "points", min_count: int = 0) -> NDA
     Raises:
         InvalidInputError: as :func:`points_array`, or coordinates out of range.
     """
-    from hapticsim.constants import MAX_COORDINATE, MIN_LENGTH
 
     arr = points_array(value, name, min_count)
     if arr.size and float(np.abs(arr).max()) > MAX_COORDINATE:
@@ -152,7 +152,6 @@ def positive_int(value: Any, name: str, minimum: int = 1, maximum: int | None = 
     `maximum` defaults to :data:`~hapticsim.constants.MAX_INT` (2**62), so that every accepted
     value converts to a NumPy int64 exactly; counts that size arrays pass a tighter one.
     """
-    from hapticsim.constants import MAX_INT
 
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise InvalidInputError(f"`{name}` must be an integer, got {value!r}")

@@ -10,9 +10,12 @@ from __future__ import annotations
 import argparse
 import io
 import sys
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from hapticsim._cli_common import (
     EXIT_BAD_INPUT,
@@ -24,12 +27,13 @@ from hapticsim._cli_common import (
     _seed,
 )
 from hapticsim._cli_suites import add_policies_parser, add_suite_parser
+from hapticsim._files import check_output_path
 from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.geometry import solid_from_json
 
 
 def _explore_epilog() -> str:
     """The object kinds and the registered strategies (imports the simulator: help only)."""
-    import textwrap
 
     from hapticsim.sim.strategies import STRATEGIES
 
@@ -73,8 +77,6 @@ def _explore_epilog() -> str:
 
 # ----------------------------------------------------------------------------- commands
 def _cmd_synth(args: argparse.Namespace) -> int:
-    import numpy as np
-
     from hapticsim.data import io
     from hapticsim.data.objects import ObjectSpec
     from hapticsim.data.synthetic import synthetic_dataset
@@ -101,7 +103,6 @@ def _cmd_synth(args: argparse.Namespace) -> int:
 
 def _cmd_score(args: argparse.Namespace) -> int:
     from hapticsim.data.objects import MESH_SUFFIXES, load_mesh
-    from hapticsim.geometry import solid_from_json
     from hapticsim.metrics import score
 
     estimate = solid_from_json(args.estimate)
@@ -430,7 +431,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
-    from hapticsim._files import check_output_path
     from hapticsim.viewer.run import load_run, replay_states
     from hapticsim.viewer.serve import export_html, require_viser, serve
 

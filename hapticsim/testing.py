@@ -19,7 +19,14 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.suites.compare import DEFAULT_ALPHA, DEFAULT_TOLERANCE, Comparison
+from hapticsim.suites.compare import (
+    DEFAULT_ALPHA,
+    DEFAULT_TOLERANCE,
+    Comparison,
+    compare_results,
+    load_results,
+)
+from hapticsim.suites.runner import run_suite
 
 __all__ = ["assert_no_regression", "plugin_spec"]
 
@@ -80,8 +87,6 @@ def assert_no_regression(
         HapticsimError: bad input (unknown suite, baseline of another suite, plug-in that does
             not import, ...).
     """
-    from hapticsim.suites.compare import compare_results, load_results
-    from hapticsim.suites.runner import run_suite
 
     base = load_results(baseline, "baseline")
     if cases is None:

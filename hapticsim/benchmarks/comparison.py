@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim._validate import positive_int
+from hapticsim.data.io import write_text_atomic
 from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
@@ -251,7 +253,6 @@ def evaluate_policy(
         "std", "median"}, "episodes_epsilon"}``; the lists run over touch counts 1..touches
         (std with ddof 1), ``episodes_epsilon[i][n - 1]`` is episode i's epsilon after n touches.
     """
-    from hapticsim._validate import positive_int
     from hapticsim.data.distributions import OBJECT_KINDS
 
     if objects not in OBJECT_KINDS:
@@ -314,8 +315,6 @@ def write_comparison(
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from hapticsim.data.io import write_text_atomic
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -2,10 +2,16 @@
 
 from __future__ import annotations
 
+import multiprocessing
+import os
 import sys
 import time
 from typing import Any
 
+import gymnasium as gym
+import numpy as np
+
+from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 from hapticsim.errors import InvalidInputError
 
 #: Steps before timing a vector environment (its workers load the compiled code first).
@@ -41,9 +47,6 @@ def benchmark_env(
         ``seconds_per_step`` of the touch, the fit and the metrics, and the fraction of steps
         that ran a full fit.
     """
-    import gymnasium as gym
-
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 
     if episodes < 1:
         raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
@@ -122,12 +125,6 @@ def benchmark_touch(
         it, which a loaded machine inflates less), ``steps``, ``touch_statuses`` (counts) and
         the ``load_average`` before and after.
     """
-    import os
-
-    import gymnasium as gym
-    import numpy as np
-
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 
     if episodes < 1:
         raise InvalidInputError(f"`episodes` must be >= 1, got {episodes}")
@@ -199,9 +196,6 @@ def _single_steps(
     step that needs it, as a vector environment's autoreset does), after a warm-up; and the
     clock at the start and end of the timed steps. With a `barrier`, the timed steps start when
     every party has warmed up (several processes running at once)."""
-    import gymnasium as gym
-
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 
     register_envs()
     env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
@@ -240,7 +234,6 @@ def lockstep_bound(step_seconds: Any, num_envs: int, draws: int = 200, seed: int
     environment (with one core per environment and no communication cost). The expectation is
     taken over random groupings of the measured times.
     """
-    import numpy as np
 
     x = np.asarray(step_seconds, dtype=float)
     gen = np.random.default_rng(seed)
@@ -280,12 +273,6 @@ def benchmark_vector_env(
         ``free_running_speedup``, ``lockstep_bound`` and the single environment's step times
         (``single_step_ms``: mean, median, p90, max).
     """
-    import multiprocessing
-
-    import gymnasium as gym
-    import numpy as np
-
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 
     if num_envs < 1 or steps < num_envs:
         raise InvalidInputError(

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
+from hapticsim.data.bodies import BODY_NAMES, get_body
 from hapticsim.data.objects import (
     ObjectSpec,
     _check_range,
@@ -64,7 +65,6 @@ class ObjectDistribution:
         if self.kind not in OBJECT_KINDS:
             raise InvalidInputError(f"`kind` must be one of {OBJECT_KINDS}, got {self.kind!r}")
         if self.kind == "paper":
-            from hapticsim.data.bodies import BODY_NAMES
 
             bodies = tuple(self.bodies) if self.bodies else tuple(BODY_NAMES)
             unknown = [b for b in bodies if b not in BODY_NAMES]
@@ -97,7 +97,6 @@ class ObjectDistribution:
             the origin).
         """
         if self.kind == "paper":
-            from hapticsim.data.bodies import get_body
 
             shape: Solid = get_body(self.bodies[int(rng.integers(len(self.bodies)))])
         elif self.kind == "random_composite":

@@ -28,6 +28,7 @@ Nothing here imports trimesh until a mesh is read or written.
 from __future__ import annotations
 
 import io as _io
+import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,10 +36,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_array, finite_float
+from hapticsim._files import atomic_write
+from hapticsim._validate import as_generator, did_you_mean, finite_array, finite_float
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
+from hapticsim.data.bodies import BODY_NAMES, get_body
+from hapticsim.data.library import PREFIX, load_library_object
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric, quaternion_to_matrix
+from hapticsim.geometry import (
+    Superquadric,
+    SuperquadricUnion,
+    quaternion_to_matrix,
+    random_rotation,
+    solid_from_json,
+)
 from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.solid import Solid
 
@@ -137,7 +147,6 @@ def random_composite(rng: np.random.Generator | int | None, parts: int | None = 
     Raises:
         InvalidInputError: `parts` out of range, or no acceptable draw in 200.
     """
-    from hapticsim.geometry import SuperquadricUnion, random_rotation
 
     gen = as_generator(rng)
     lo, hi = COMPOSITE_PARTS
@@ -218,13 +227,10 @@ class Pose:
 
 
 def _kind_of(source: str) -> str:
-    from hapticsim.data.bodies import BODY_NAMES
-
     if source in BODY_NAMES:
         return "body"
     if source in RANDOM_KINDS:
         return source
-    from hapticsim.data.library import PREFIX
 
     if source.startswith(PREFIX):
         return "pybullet"
@@ -238,8 +244,6 @@ def _kind_of(source: str) -> str:
             f"unknown object file format {suffix!r} ({source}): give a superquadric .json or a "
             f"mesh file ({', '.join(s.lstrip('.').upper() for s in MESH_SUFFIXES)})"
         )
-    from hapticsim._validate import did_you_mean
-    from hapticsim.data.bodies import BODY_NAMES
 
     hint = did_you_mean(source, (*BODY_NAMES, *RANDOM_KINDS))
     raise InvalidInputError(f"unknown object {source!r}{hint}: give {OBJECT_HELP}")
@@ -316,7 +320,6 @@ class ObjectSpec:
             if self.kind == "mesh":
                 solid = load_mesh(self.source, self.scale)
             else:
-                from hapticsim.data.library import load_library_object
 
                 solid = load_library_object(self.source.split(":", 1)[1], self.scale)
             if self.pose is None:
@@ -324,11 +327,9 @@ class ObjectSpec:
             return solid.transformed(self.pose.rotation, self.pose.position)
         shape: Solid
         if self.kind == "body":
-            from hapticsim.data.bodies import get_body
 
             shape = get_body(self.source)
         elif self.kind == "superquadric":
-            from hapticsim.geometry import solid_from_json
 
             shape = solid_from_json(self.source)
         elif self.kind == "random_composite":
@@ -428,7 +429,6 @@ def write_stl(path: str | Path, solid: MeshSolid) -> Path:
     Raises:
         InvalidInputError: the path cannot be written (the message names it).
     """
-    from hapticsim._files import atomic_write
 
     data = stl_bytes(solid)
     return atomic_write(path, lambda fh: fh.write(data), "wb")
@@ -437,7 +437,6 @@ def write_stl(path: str | Path, solid: MeshSolid) -> Path:
 def truth_file(solid: Solid) -> tuple[str, bytes]:
     """The file a run writes of its truth: a mesh as binary STL (``truth.stl``, its JSON would
     be large), any other solid as its JSON (``truth.json``: SPEC §6, a union SPEC §10)."""
-    import json
 
     if isinstance(solid, MeshSolid):
         return "truth.stl", stl_bytes(solid)

@@ -40,6 +40,7 @@ from hapticsim.data.patterns import Patch, Pattern, Stripe, sample_patterns
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.superquadric import superquadric_arg
+from hapticsim.geometry.union import SuperquadricUnion
 
 Array = NDArray[np.float64]
 
@@ -172,7 +173,6 @@ def synthetic_dataset(
         InvalidInputError: another kind of solid (meshes: explore them with the hand), or bad
             arguments.
     """
-    from hapticsim.geometry.union import SuperquadricUnion
 
     if isinstance(truth, Superquadric):
         return paper_dataset(truth, noise, rng, count)

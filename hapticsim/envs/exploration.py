@@ -24,6 +24,7 @@ from hapticsim._validate import as_generator, positive_int
 from hapticsim.constants import MAX_CONTACTS
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.sim.free_space import FreeSpaceTrace
 
 #: The policies an exploration can run (``learned:PATH`` too: a weight file).
 POLICY_STRATEGIES: tuple[str, ...] = ("uncertainty", "information", "learned", "random")
@@ -76,7 +77,6 @@ def run_policy_exploration(
     """
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
     from hapticsim.envs.policies import make_policy
-    from hapticsim.sim.free_space import FreeSpaceTrace
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.session import MIN_CONTACTS, Exploration
 

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
+from hapticsim.data.io import Contacts
 from hapticsim.envs.backends import make_backend
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
@@ -26,6 +27,8 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid
 from hapticsim.metrics.coverage import coverage_uncertainty
+from hapticsim.metrics.episode import TruthScorer
+from hapticsim.sim.rough import DepthCamera, vision_estimate
 
 Array = NDArray[np.float64]
 
@@ -319,7 +322,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.config = config if config is not None else HapticExploreConfig(**kwargs)
         self.render_mode = render_mode
         self._backend = make_backend(self.config)
-        from hapticsim.sim.rough import DepthCamera
 
         width, height = self.config.camera_size
         self._camera = DepthCamera(width=width, height=height)
@@ -397,7 +399,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         ``touch`` (index of the touch that made each contact); with tactile sensing also
         ``points_exact``, ``normals_exact`` (the true contacts the estimates stand for) and
         ``sigma`` [m]."""
-        from hapticsim.data.io import Contacts
 
         pts, nrm = self._stacked()
         vectors = ("points_clean", "normals_clean", "points_exact", "normals_exact")
@@ -433,7 +434,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         self._clear()
         self._fitter.reset()
-        from hapticsim.sim.rough import vision_estimate
 
         # what the robot knows before touching: one depth image's estimate, off by the
         # camera-to-hand calibration error
@@ -512,7 +512,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def _scorer(self):  # noqa: ANN202 - hapticsim.metrics.episode.TruthScorer
         """The scorer of this episode's truth (made on first use, its random numbers fixed)."""
         if self._truth_scorer is None or self._truth_scorer.truth is not self._truth:
-            from hapticsim.metrics.episode import TruthScorer
 
             if self._truth_scorer is None:
                 self._truth_scorer = TruthScorer(

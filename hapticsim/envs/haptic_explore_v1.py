@@ -8,7 +8,7 @@ policy trained on v1 also runs on a v0 environment (``hapticsim.envs.policies`` 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import gymnasium as gym
@@ -16,6 +16,8 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
+from hapticsim._validate import finite_array
+from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
 from hapticsim.envs.observation import OBS_BOUND, decode_fit
 from hapticsim.envs.touch import encode_touch
@@ -202,7 +204,6 @@ def decode_action_v1(action: Any) -> tuple[Array, float, float]:
         stroke_angle: ``psi = pi * a3`` [rad];
         stroke_fraction: ``(a4 + 1) / 2`` of ``max_stroke`` (a probe below one spacing).
     """
-    from hapticsim._validate import finite_array
 
     a = np.clip(finite_array(action, "action", (ACTION_DIM_V1,)), -1.0, 1.0)
     norm = float(np.linalg.norm(a[0:3]))
@@ -271,7 +272,6 @@ class HapticExploreV1Config:
         if not isinstance(c, (int, float)) or not np.isfinite(c) or not 0 <= c <= 100:
             raise InvalidInputError(f"`coverage_weight` must be in [0, 100], got {c!r}")
         if self.base.reward != "epsilon" or not self.base.compute_metrics:
-            from dataclasses import replace
 
             object.__setattr__(self, "base", replace(self.base, reward="epsilon"))
 
@@ -280,7 +280,6 @@ class HapticExploreV1Config:
         """The config from keyword arguments: v1's own (``reward``, ``epsilon_floor``) and v0's."""
         own = {f.name for f in fields(cls)} - {"base"}
         v1 = {k: kwargs.pop(k) for k in list(kwargs) if k in own}
-        from hapticsim.envs.estimator import FitSchedule
 
         if "fit" in kwargs and isinstance(kwargs["fit"], dict):
             kwargs["fit"] = FitSchedule(**kwargs["fit"])

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim._files import atomic_write
 from hapticsim.envs.registration import canonical_id
 from hapticsim.errors import InvalidInputError
 
@@ -205,7 +206,6 @@ class Actor:
 
     def save(self, path: str | Path) -> Path:
         """Write the weight file atomically (``.npz``); returns its path."""
-        from hapticsim._files import atomic_write
 
         path = Path(path)
         if path.suffix != ".npz":

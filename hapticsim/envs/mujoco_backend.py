@@ -39,7 +39,7 @@ from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.sections import section_walk, stroke_plane
 from hapticsim.geometry.solid import Solid
-from hapticsim.sim.rough import RoughObject
+from hapticsim.sim.rough import RoughObject, vision_estimate
 
 Array = NDArray[np.float64]
 
@@ -80,8 +80,6 @@ class MujocoBackend(TouchBackend):
         sensing: str | None = None,
         skin=None,  # noqa: ANN001 - str | Path | SkinPreset
     ) -> None:
-        from dataclasses import replace
-
         from hapticsim.sim.scene import PlanningSceneCache, SceneCache, SceneConfig
 
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
@@ -145,7 +143,6 @@ class MujocoBackend(TouchBackend):
         """
         from hapticsim.sim.explorer import Explorer, ExplorerConfig, planning_config
         from hapticsim.sim.recorder import Recorder
-        from hapticsim.sim.rough import vision_estimate
 
         self.close()
         scene = self._scenes.scene(shape, self.scene_config)

@@ -38,8 +38,10 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import did_you_mean
 from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.envs import haptic_explore_v1 as v1
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
+from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
 from hapticsim.envs.touch import encode_touch
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.uncertainty import (
@@ -48,7 +50,7 @@ from hapticsim.fitting.uncertainty import (
     posterior_covariance,
     with_prior,
 )
-from hapticsim.geometry import N_PARAMS, Superquadric
+from hapticsim.geometry import N_PARAMS, Superquadric, random_rotation
 from hapticsim.geometry.rays import raycast_many
 from hapticsim.geometry.sampling import fibonacci_sphere
 from hapticsim.geometry.sections import tangent_frame
@@ -229,8 +231,6 @@ class UncertaintyPolicy(Policy):
         return estimate_from_observation(obs, self.config.obs_scale, self.initial_radius)
 
     def _candidates(self, estimate: Superquadric) -> _Candidates:
-        from hapticsim.geometry import random_rotation
-
         dirs = self._sphere @ random_rotation(self.rng).T
         far = 3.0 * estimate.bounding_radius + 2.0 * float(np.linalg.norm(estimate.center))
         s = raycast_many(estimate, far * dirs, -dirs, 2.0 * far)
@@ -276,7 +276,6 @@ class UncertaintyPolicy(Policy):
         self._last, self._last_count = d, len(contacts)
         self._finger = (self._finger + 1) % self.n_fingers
         return self._action(d, psi, 1.0, self._finger)
-
 
     def _score(
         self, points: Array, contacts: Array, estimate: Superquadric, obs: Observation
@@ -385,8 +384,6 @@ class LearnedPolicy(Policy):
         rng: np.random.Generator | int | None = None,
         path: str | Path | None = None,
     ) -> None:
-        from hapticsim.envs import haptic_explore_v1 as v1
-
         base = env.unwrapped
         self.on_v1 = isinstance(base, v1.HapticExploreV1Env)
         self.config = base.config.base if self.on_v1 else base.config
@@ -408,8 +405,6 @@ class LearnedPolicy(Policy):
         self._last = None
 
     def __call__(self, obs: Any) -> NDArray[np.float32]:
-        from hapticsim.envs import haptic_explore_v1 as v1
-
         if self.on_v1:
             return self.actor(obs)
         touches = int(round(float(obs["touches"][0])))
@@ -434,8 +429,6 @@ def load_learned(path: str | Path | None, config: Any = None):  # noqa: ANN201 -
     Raises:
         InvalidInputError: see :class:`LearnedPolicy`.
     """
-    from hapticsim.envs import haptic_explore_v1 as v1
-    from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
 
     if path is None:
         path = LEARNED_WEIGHTS

@@ -19,6 +19,12 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
 
 from __future__ import annotations
 
+import warnings
+from functools import partial
+
+import gymnasium as gym
+from gymnasium.envs.registration import EnvSpec, register, registry
+
 #: Id of the exploration environment.
 HAPTIC_EXPLORE_ID: str = "hapticsim/HapticExplore-v0"
 #: Its string entry point (imported only when the environment is made).
@@ -44,9 +50,6 @@ def canonical_id(env_id: str) -> str:
 
 def make_renamed(old_id: str, **kwargs: object):  # noqa: ANN201 - a gymnasium.Env
     """Entry point of a renamed id: warn, then make the environment of its new id."""
-    import warnings
-
-    import gymnasium as gym
 
     new_id = RENAMED_IDS[old_id]
     warnings.warn(
@@ -62,9 +65,6 @@ def register_envs() -> None:
     """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0`` and
     ``hapticsim/HapticExploreTactile-v0``, and the renamed ids (:data:`RENAMED_IDS`); calling
     it again does nothing."""
-    from functools import partial
-
-    from gymnasium.envs.registration import EnvSpec, register, registry
 
     for old_id in RENAMED_IDS:
         if old_id in registry:

@@ -6,6 +6,7 @@ Headless: set ``MUJOCO_GL=egl`` (or ``osmesa``) before MuJoCo is imported.
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
@@ -28,8 +29,6 @@ STAND_HEIGHT = 0.06
 
 
 def _add_mesh(spec, name: str, shape: Solid, rgba: tuple[float, ...]) -> None:  # noqa: ANN001
-    import mujoco
-
     vertices, faces = shape.surface_mesh(40)
     spec.add_mesh(
         name=name,
@@ -59,8 +58,6 @@ class SceneRenderer:
     def _build(
         self, truth: Solid, estimate: Solid | None, support: Support | None
     ) -> None:
-        import mujoco
-
         spec = mujoco.MjSpec()
         spec.visual.global_.offwidth = max(self.width, 640)
         spec.visual.global_.offheight = max(self.height, 480)
@@ -104,7 +101,6 @@ class SceneRenderer:
             points: (n, 3) float, contact points [m, world] (red spheres).
             support: the object's support (drawn with a table under a stand), or None.
         """
-        import mujoco
 
         key = (id(truth), id(estimate), id(support))
         if self._key != key or self._renderer is None:

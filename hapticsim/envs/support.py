@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
+from hapticsim.sim.object_mesh import support_foot, support_radius
 
 Array = NDArray[np.float64]
 
@@ -55,7 +56,6 @@ class Support:
         (:meth:`~hapticsim.geometry.solid.Solid.support_points`: a superquadric's 91 x 181 grid
         of angles, about 0.1 mm apart, rather than its collision vertices) and at the lowest
         height."""
-        from hapticsim.sim.object_mesh import support_foot, support_radius
 
         foot = support_foot(shape, shape.support_points(), level=True)
         return cls(kind, foot, support_radius(shape, STAND_RADIUS))

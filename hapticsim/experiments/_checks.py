@@ -5,12 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from hapticsim._validate import positive_int
+from hapticsim.constants import MAX_CONTACTS, MAX_RUNS
 from hapticsim.errors import InvalidInputError
 
 
 def check_common(count: int, runs: int, seed: int, methods: Sequence[str]) -> None:
     """Checks shared by the figure configs."""
-    from hapticsim.constants import MAX_CONTACTS, MAX_RUNS
     from hapticsim.fitting.methods import METHODS
 
     positive_int(count, "count", maximum=MAX_CONTACTS)

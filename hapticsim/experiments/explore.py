@@ -40,6 +40,7 @@ temporary name and renamed, so a failure leaves no half-written output.
 from __future__ import annotations
 
 import io
+import json
 import os
 import sys
 import time
@@ -51,7 +52,16 @@ import numpy as np
 from hapticsim._files import OutputSet
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import MAX_CONTACTS
+from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
 from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.experiments.explore_report import (
+    exploration_figure_png,
+    png_bytes,
+    prepare_figures,
+    write_bytes_atomic,
+)
+from hapticsim.geometry import Superquadric, matrix_to_quaternion
+from hapticsim.sim.free_space import near_contacts
 
 # headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
 os.environ.setdefault("MUJOCO_GL", "egl")
@@ -142,7 +152,6 @@ def explore(
         spec = object_name
     else:
         spec = ObjectSpec(object_name, scale=scale, pose=pose)
-    from hapticsim.envs.exploration import is_policy_strategy
     from hapticsim.sim.strategies import get_strategy
 
     if not is_policy_strategy(strategy):
@@ -187,20 +196,12 @@ def _explore(
     from hapticsim.data.io import FREE_SPACE_KEY
     from hapticsim.data.noise import add_noise
     from hapticsim.data.objects import truth_file as truth_file_of
-    from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
-    from hapticsim.experiments.explore_report import (
-        exploration_figure_png,
-        png_bytes,
-        prepare_figures,
-    )
     from hapticsim.fitting import fit
     from hapticsim.fitting.kernels import start_background
     from hapticsim.fitting.methods import uses_normals
     from hapticsim.fitting.ml import MLOptions
-    from hapticsim.geometry import Superquadric
     from hapticsim.metrics import score, theta
     from hapticsim.metrics.accuracy import contact_accuracy
-    from hapticsim.sim.free_space import near_contacts
     from hapticsim.sim.hand_trace import HandTrace
     from hapticsim.sim.session import run_exploration
     from hapticsim.sim.video import ExplorationVideo
@@ -395,7 +396,6 @@ def _tactile_summary(run: Any) -> dict[str, Any]:
 
 def _npz_bytes(arrays: dict[str, Any]) -> bytes:
     """Arrays as the bytes of a compressed ``.npz`` file."""
-    import io
 
     buf = io.BytesIO()
     np.savez_compressed(buf, **arrays)
@@ -404,7 +404,6 @@ def _npz_bytes(arrays: dict[str, Any]) -> bytes:
 
 def _tactile_file(run: Any, skin: Any) -> bytes:
     """The compressed ``tactile.npz`` of a run (module docstring)."""
-    import json
 
     tactile = run.explorer.sim.tactile
     layouts = [p.layout for p in tactile.pads]
@@ -436,7 +435,6 @@ def _write_outputs(
 ) -> dict[str, Path]:  # fmt: skip
     """Write the run's files in `out`; returns them by kind."""
     from hapticsim.data.io import Contacts, write_contacts, write_json
-    from hapticsim.experiments.explore_report import write_bytes_atomic
 
     files = {
         "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
@@ -475,7 +473,6 @@ def _placement_args(spec: Any) -> str:
     """The ``--scale``/``--pose`` options that reproduce a spec's placement ('' if none)."""
     text = "" if spec.scale == 1.0 else f" --scale {spec.scale}"
     if spec.pose is not None:
-        from hapticsim.geometry import matrix_to_quaternion
 
         values = [*spec.pose.position, *matrix_to_quaternion(spec.pose.rotation)]
         text += " --pose " + ",".join(f"{v:.9g}" for v in values)

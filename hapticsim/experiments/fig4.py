@@ -15,8 +15,11 @@ from typing import Any
 
 from hapticsim._validate import positive_int
 from hapticsim.constants import MAX_BUDGET
+from hapticsim.data.bodies import BODY_NAMES, get_body
+from hapticsim.data.io import write_text_atomic
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
+from hapticsim.experiments.plotting import plot_fig4
 from hapticsim.experiments.stats import summarize
 from hapticsim.experiments.tables import markdown_table, mean_spread, write_csv
 from hapticsim.experiments.trial import METRICS, Trial, TrialResult, make_trial, run_trial
@@ -58,7 +61,6 @@ class Fig4Config:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        from hapticsim.data.bodies import BODY_NAMES
         from hapticsim.fitting.methods import PAPER_BUDGET
 
         if self.bodies is None:
@@ -154,9 +156,6 @@ def write_fig4(result: Fig4Result, out_dir: str | Path) -> dict[str, Path]:
     Returns:
         dict of the written files: ``runs_csv``, ``table_csv``, ``table_md``, ``figure``.
     """
-    from hapticsim.data.bodies import get_body
-    from hapticsim.data.io import write_text_atomic
-    from hapticsim.experiments.plotting import plot_fig4
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -20,6 +20,7 @@ from hapticsim._validate import positive_int
 from hapticsim.constants import MAX_BUDGET
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments._checks import check_bodies, check_common, check_noise
+from hapticsim.experiments.plotting import plot_fig5
 from hapticsim.experiments.stats import summarize
 from hapticsim.experiments.tables import write_csv
 from hapticsim.experiments.trial import METRICS, Trial, TrialResult, make_trial, run_trial
@@ -184,7 +185,6 @@ def write_fig5(result: Fig5Result, out_dir: str | Path) -> dict[str, Path]:
     Returns:
         dict of the written files: ``runs_csv``, ``curves_csv``, ``figure``.
     """
-    from hapticsim.experiments.plotting import plot_fig5
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

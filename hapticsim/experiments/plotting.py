@@ -5,6 +5,7 @@ Uses the non-interactive Agg backend; every function writes a PNG and returns it
 
 from __future__ import annotations
 
+import io
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -41,7 +42,6 @@ def _pyplot():  # noqa: ANN202 - the pyplot module
 
 def _save(fig: Any, path: str | Path, dpi: int) -> Path:
     """Save as a 256-colour PNG (small files for the repository), atomically."""
-    import io
 
     from PIL import Image
 

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim.data.io import write_text_atomic
 from hapticsim.experiments.claims import HOLDS, Claim
 from hapticsim.experiments.fig4 import Fig4Result, fig4_markdown
 from hapticsim.experiments.fig5 import Fig5Result
@@ -201,7 +202,6 @@ def write_results(
     figures: dict[str, Path],
 ) -> Path:
     """Write the Markdown report to `path` (atomic); picture links are relative to it."""
-    from hapticsim.data.io import write_text_atomic
 
     path = Path(path)
     text = render_results(fig4, fig5, claims, summary, figures, path.parent)

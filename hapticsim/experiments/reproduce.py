@@ -15,10 +15,12 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim._files import OutputSet, atomic_write
+from hapticsim.data.io import write_json
 from hapticsim.errors import InvalidInputError
 from hapticsim.experiments.claims import check_claims
 from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
 from hapticsim.experiments.fig5 import Fig5Config, collect_fig5, write_fig5
+from hapticsim.experiments.report import write_results
 from hapticsim.experiments.trial import METRICS, run_trial
 from hapticsim.parallel import parallel_map, resolve_workers
 
@@ -138,14 +140,12 @@ def _write_outputs(
         "claims": [{"statement": c.statement, "verdict": c.verdict} for c in claims],
     }
     if results is not None:
-        from hapticsim.experiments.report import write_results
 
         files["results"] = write_results(
             results, fig4=fig4, fig5=fig5, claims=claims, summary=summary,
             figures=_copy_figures(outputs, files, results, figures_dir),
         )  # fmt: skip
     summary["files"] = {k: str(v) for k, v in files.items()}
-    from hapticsim.data.io import write_json
 
     write_json(out / "summary.json", {**summary, "claims": [c.to_dict() for c in claims]})
     summary["files"]["summary"] = str(out / "summary.json")

@@ -18,6 +18,7 @@ from hapticsim._validate import (
 )
 from hapticsim.constants import DEFAULT_LAMBDA, MAX_BUDGET
 from hapticsim.errors import InvalidInputError
+from hapticsim.fitting.gpis import fit_gpis
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_vectors
 from hapticsim.fitting.kernels import prepare
@@ -31,10 +32,13 @@ from hapticsim.fitting.methods import (
     uses_normals,
 )
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
+from hapticsim.fitting.multi import multi_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult
-from hapticsim.geometry.eof import DISTANCES
+from hapticsim.fitting.uncertainty import laplace
+from hapticsim.geometry.eof import DISTANCES, ContactSet
 from hapticsim.geometry.superquadric import N_PARAMS, Superquadric, superquadric_arg
+from hapticsim.geometry.union import SuperquadricUnion
 
 Array = NDArray[np.float64]
 
@@ -214,7 +218,6 @@ def fit(
     seconds = time.perf_counter() - start
     posterior = None
     if uncertainty:
-        from hapticsim.fitting.uncertainty import laplace
 
         posterior = laplace(Superquadric.from_vector(best), pts, data_normals, weight,
                             DEFAULT_DISTANCE if ml else distance)  # fmt: skip
@@ -256,9 +259,6 @@ def _fit_multi(
     parts: int | None, start: float,
 ) -> FitResult:  # fmt: skip
     """multi: nH's one-part fit, then :func:`~hapticsim.fitting.multi.multi_search`."""
-    from hapticsim.fitting.multi import multi_search
-    from hapticsim.geometry.eof import ContactSet
-    from hapticsim.geometry.union import SuperquadricUnion
 
     single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)
     if parts == 1:
@@ -295,7 +295,6 @@ def _fit_gpis(
     warm: Superquadric | None, distance: str, start: float,
 ) -> FitResult:  # fmt: skip
     """gpis: :func:`~hapticsim.fitting.gpis.fit_gpis`'s mesh, beside nH's one-part fit."""
-    from hapticsim.fitting.gpis import fit_gpis
 
     surface = fit_gpis(pts, nrm)  # first: a missing scikit-image costs no nH fit
     single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)

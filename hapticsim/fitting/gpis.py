@@ -24,6 +24,7 @@ import numpy as np
 
 from hapticsim._validate import normals_array, physical_points, positive_int
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import MeshSolid
 
 #: Grid cells per axis of the level set, and the margin of the grid around the contacts' box
 #: (a fraction of R).
@@ -180,8 +181,6 @@ def fit_gpis(
 def _largest_closed_piece(verts: np.ndarray, faces: np.ndarray, center: np.ndarray,
                           radius: float) -> Any:  # fmt: skip
     import trimesh
-
-    from hapticsim.geometry import MeshSolid
 
     mesh = trimesh.Trimesh(verts * radius + center, faces[:, ::-1], process=True)
     pieces = list(mesh.split(only_watertight=True))

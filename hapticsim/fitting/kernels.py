@@ -27,9 +27,16 @@ from dataclasses import dataclass, field
 from typing import TextIO
 
 import numpy as np
+from numba.core.registry import cpu_target
 
 from hapticsim import _jit_cache
 from hapticsim.errors import InvalidInputError
+from hapticsim.fitting.genetic import GeneticOptions, genetic_search
+from hapticsim.fitting.hybrid import distinct_starts
+from hapticsim.fitting.initial import seed_vectors
+from hapticsim.fitting.least_squares import least_squares_run, multi_start_run
+from hapticsim.fitting.ml import ml_objective
+from hapticsim.fitting.objective import Objective
 
 #: The independent parts of the kernels: (residual model, stage).
 PARTS: tuple[str, ...] = ("eof-lm", "eof-ga", "ml-lm", "ml-ga")
@@ -63,8 +70,6 @@ def parts_for(methods: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
 
 def _tiny_objective(model: str):  # noqa: ANN202 - an Objective
     """An objective on 24 contacts of a sphere of radius 0.03 m (types as a real fit's)."""
-    from hapticsim.fitting.ml import ml_objective
-    from hapticsim.fitting.objective import Objective
 
     k = np.arange(24) + 0.5
     z = 1.0 - 2.0 * k / 24
@@ -80,10 +85,6 @@ def _tiny_objective(model: str):  # noqa: ANN202 - an Objective
 
 def _run_part(part: str) -> None:
     """Run `part`'s kernels once on a tiny problem (compiling or loading them)."""
-    from hapticsim.fitting.genetic import GeneticOptions, genetic_search
-    from hapticsim.fitting.hybrid import distinct_starts
-    from hapticsim.fitting.initial import seed_vectors
-    from hapticsim.fitting.least_squares import least_squares_run, multi_start_run
 
     model, stage = part.split("-")
     objective = _tiny_objective(model)
@@ -113,7 +114,6 @@ def prepare(methods: str | tuple[str, ...] | list[str] = "nH") -> float:
 def target_tag() -> str:
     """A short tag of numba's code-generation target here (triple, CPU name and features): its
     cache holds machine code for one target, so the markers of :func:`is_cached` name it."""
-    from numba.core.registry import cpu_target
 
     magic = cpu_target.target_context.codegen().magic_tuple()
     return hashlib.sha256(repr(magic).encode()).hexdigest()[:12]

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim.fitting.likelihood import Likelihood
 from hapticsim.fitting.objective import Bounds
 from hapticsim.fitting.problem import Problem, problem_jacobian
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
@@ -257,7 +258,6 @@ def _contact_jacobians(
     ``sigma_p = noise`` and ``sigma_n = noise / mean(a)``, differentiated by the parameters;
     and (k,) bool, where they are finite (a point on a crease of the estimate, where its
     gradient is undefined, has none: it counts as telling nothing)."""
-    from hapticsim.fitting.likelihood import Likelihood
 
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     k = len(pts)

@@ -15,6 +15,8 @@ box-like shapes (2/eps up to 20) neither overflow nor underflow for far or near 
 
 from __future__ import annotations
 
+from math import exp, lgamma
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -320,14 +322,11 @@ def tapered_normals(
 
 def unit_superellipse_area(eps2: float) -> float:
     """Area of ``|x|^(2/eps2) + |y|^(2/eps2) <= 1``: ``4 Gamma(1+eps2/2)^2 / Gamma(1+eps2)``."""
-    from math import exp, lgamma
 
     return 4.0 * exp(2.0 * lgamma(1.0 + eps2 / 2.0) - lgamma(1.0 + eps2))
 
 
 def _beta(x: float, y: float) -> float:
-    from math import exp, lgamma
-
     return exp(lgamma(x) + lgamma(y) - lgamma(x + y))
 
 

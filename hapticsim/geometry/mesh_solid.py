@@ -13,6 +13,7 @@ faces are counter-clockwise seen from outside (positive volume).
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -20,8 +21,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_array, points_array, positive_int
-from hapticsim.errors import InvalidInputError
+from hapticsim._validate import (
+    as_generator,
+    finite_array,
+    normals_array,
+    points_array,
+    positive_int,
+)
+from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.geometry.rotations import is_rotation
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.triangles import (
     TriangleSearch,
@@ -305,7 +313,6 @@ class MeshSolid(Solid):
         the one to that cone (0 inside it): a fingertip rolling over a sharp edge measures the
         normals in between, and each of them is right.
         """
-        from hapticsim._validate import normals_array
 
         p = points_array(points_world, "points_world", min_count=1)
         unit = normals_array(normals_world, len(p), "normals_world")
@@ -390,8 +397,6 @@ class MeshSolid(Solid):
         return tuple(p - center for p in parts), center, np.eye(3), method
 
     def _decomposition(self) -> tuple[Array, ...]:
-        from hapticsim.errors import SimulationError
-
         key = self.shape_key()
         if key in _decompositions:
             return _decompositions[key]
@@ -419,7 +424,6 @@ class MeshSolid(Solid):
 
     def shape_key(self) -> bytes:
         """The mesh's content (vertices and faces, world frame: a mesh's key holds its pose)."""
-        import hashlib
 
         digest = hashlib.sha1(np.ascontiguousarray(self.vertices).tobytes())
         digest.update(np.ascontiguousarray(self.faces).tobytes())
@@ -460,7 +464,6 @@ class MeshSolid(Solid):
             rotation: (3, 3) float, a proper rotation.
             translation: (3,) float [m].
         """
-        from hapticsim.geometry.rotations import is_rotation
 
         r = finite_array(rotation, "rotation", (3, 3))
         t = finite_array(translation, "translation", (3,))

@@ -12,6 +12,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.functions import radial_scale, signed_power
 
 Array = NDArray[np.float64]
@@ -70,7 +71,6 @@ def parametrize(
     eta: Array, omega: Array, a: Array, eps: Array, parametrization: str = "uniform"
 ) -> Array:
     """Dispatch to :func:`natural` or :func:`uniform` by name."""
-    from hapticsim.errors import InvalidInputError
 
     if parametrization == "natural":
         return natural(eta, omega, a, eps)

@@ -31,6 +31,8 @@ from hapticsim._validate import as_generator, positive_int
 from hapticsim.geometry import _sampling_compiled as kernel
 from hapticsim.geometry import functions as fn
 from hapticsim.geometry.eof_compiled import TINY
+from hapticsim.geometry.mesh import surface_grid
+from hapticsim.geometry.triangles import closest_point_on_triangles
 
 Array = NDArray[np.float64]
 
@@ -160,8 +162,6 @@ class SurfaceMesh:
     def __post_init__(self) -> None:
         from scipy.spatial import cKDTree
 
-        from hapticsim.geometry.mesh import surface_grid
-
         vertices, faces = surface_grid(self.sq, self.resolution)
         tri = vertices[faces]
         area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
@@ -189,7 +189,6 @@ class SurfaceMesh:
 
     def distance(self, points: Array) -> Array:
         """(n,) distances [m] of world points to the mesh surface."""
-        from hapticsim.geometry.triangles import closest_point_on_triangles
 
         k = min(_CANDIDATES, len(self.triangles))
         _, idx = self.tree.query(points, k=k)

@@ -37,6 +37,8 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.errors import InvalidInputError
+
 Array = NDArray[np.float64]
 
 
@@ -257,7 +259,6 @@ class Solid(ABC):
 
 def solid_arg(value: Any, name: str) -> Solid:
     """`value` if it is a :class:`Solid`, else InvalidInputError naming `name`."""
-    from hapticsim.errors import InvalidInputError
 
     if not isinstance(value, Solid):
         raise InvalidInputError(

@@ -8,7 +8,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from hapticsim._files import read_json
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
 from hapticsim.geometry.union import SuperquadricUnion
@@ -33,7 +35,6 @@ def solid_from_dict(data: Any) -> Solid:
                 'a mesh solid must be {"mesh": {"vertices": [[x, y, z], ...], "faces": '
                 "[[i, j, k], ...]}}"
             )
-        from hapticsim.geometry.mesh_solid import MeshSolid
 
         return MeshSolid(mesh["vertices"], mesh["faces"])
     if not isinstance(data, dict):
@@ -46,7 +47,6 @@ def solid_from_dict(data: Any) -> Solid:
 
 def solid_from_json(path_or_text: str | Path) -> Solid:
     """Read a solid (:func:`solid_from_dict`) from a JSON file path or a JSON string."""
-    from hapticsim._files import read_json
 
     return solid_from_dict(read_json(path_or_text))
 

@@ -19,7 +19,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import finite_array
+from hapticsim._files import read_json, write_text_atomic
+from hapticsim._validate import (
+    as_generator,
+    finite_array,
+    normals_array,
+    points_array,
+    positive_int,
+)
 from hapticsim.constants import (
     EPS_MAX,
     EPS_MIN,
@@ -39,6 +46,7 @@ from hapticsim.geometry.layout import (  # noqa: F401  (the layout's names, re-e
     SLICE_ROTVEC,
     SLICE_TAPER,
 )
+from hapticsim.geometry.mesh import superquadric_mesh, surface_grid
 from hapticsim.geometry.parametrization import parametrize
 from hapticsim.geometry.rotations import (
     is_rotation,
@@ -210,7 +218,6 @@ class Superquadric(Solid):
         """The JSON text; also written to `path` when given."""
         text = json.dumps(self.to_dict(), indent=2)
         if path is not None:
-            from hapticsim._files import write_text_atomic
 
             write_text_atomic(path, text + "\n")
         return text
@@ -218,7 +225,6 @@ class Superquadric(Solid):
     @classmethod
     def from_json(cls, path_or_text: str | Path) -> Superquadric:
         """Read a superquadric (or a fit result) from a JSON file path or a JSON string."""
-        from hapticsim._files import read_json
 
         return cls.from_dict(read_json(path_or_text))
 
@@ -401,7 +407,6 @@ class Superquadric(Solid):
     ) -> tuple[Array, Array]:
         """`count` points uniform by area on the surface (random points on the triangles of its
         fine mesh, moved radially onto the exact surface) and their outward normals."""
-        from hapticsim._validate import as_generator, positive_int
         from hapticsim.geometry.sampling import surface_mesh_of
 
         n = positive_int(count, "count")
@@ -495,7 +500,6 @@ class Superquadric(Solid):
         projection (the Euclidean distance to first order: exact on flat faces, error
         ``|p - q|^2 * curvature`` elsewhere, under 1e-8 m within 0.1 mm), and the angle [deg]
         of their normals against the outward normal at q."""
-        from hapticsim._validate import normals_array, points_array
 
         p = points_array(points_world, "points_world", min_count=1)
         n = normals_array(normals_world, len(p), "normals_world")
@@ -523,15 +527,12 @@ class Superquadric(Solid):
     # ----------------------------------------------------------------- Solid: pieces, pose
     def surface_mesh(self, resolution: int = 40) -> tuple[Array, NDArray[np.int64]]:
         """Vertices and faces of its mesh (:func:`hapticsim.geometry.mesh.surface_grid`)."""
-        from hapticsim.geometry.mesh import surface_grid
 
         return surface_grid(self, resolution)
 
     def convex_pieces(self, resolution: int) -> tuple[tuple[Array, ...], Array, Array, str]:
         """One piece: the distinct vertices of its uniform and natural grids at `resolution`
         longitudes in its body frame (the hull MuJoCo builds of them is its collision mesh)."""
-        from hapticsim._validate import positive_int
-        from hapticsim.geometry.mesh import surface_grid
 
         res = positive_int(resolution, "resolution", minimum=8)
         body = self.replace(rotation=np.eye(3), center=np.zeros(3))
@@ -566,7 +567,6 @@ class Superquadric(Solid):
 
         See :func:`hapticsim.geometry.mesh.superquadric_mesh`.
         """
-        from hapticsim.geometry.mesh import superquadric_mesh
 
         return superquadric_mesh(self, resolution=resolution, parametrization=parametrization)
 

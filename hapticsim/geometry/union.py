@@ -30,6 +30,7 @@ from hapticsim._validate import as_generator, points_array, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
+from hapticsim.geometry.triangles import TriangleSearch
 
 Array = NDArray[np.float64]
 
@@ -171,7 +172,6 @@ class SuperquadricUnion(Solid):
     @cached_property
     def _triangles(self) -> Any:
         from hapticsim.geometry.sampling import DEFAULT_MESH_RESOLUTION
-        from hapticsim.geometry.triangles import TriangleSearch
 
         vertices, faces = self.surface_mesh(DEFAULT_MESH_RESOLUTION)
         tri = np.asarray(vertices)[np.asarray(faces)]

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import sys
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Generic, TypeVar
 
 from hapticsim._validate import positive_int
+from hapticsim.errors import InvalidInputError
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -92,7 +94,6 @@ def namer(names: Names, tasks: Sequence[Any], desc: str) -> Callable[[int], str]
     Raises:
         InvalidInputError: a sequence of names whose length is not the number of tasks.
     """
-    from hapticsim.errors import InvalidInputError
 
     if names is None:
         label = f" of {desc}" if desc else ""
@@ -110,7 +111,6 @@ def namer(names: Names, tasks: Sequence[Any], desc: str) -> Callable[[int], str]
 
 def describe_exit(exitcode: int | None) -> str:
     """How a process ended, in words: "killed by signal SIGKILL", "exit status 1", ..."""
-    import signal
 
     if exitcode is None:
         return "it stopped answering"

@@ -13,12 +13,17 @@ worker died (three times by default) before it gives up and names it.
 from __future__ import annotations
 
 import logging
+import platform
 import re
 import threading
+import traceback
 import uuid
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import numpy
+
+from hapticsim._version import __version__
 from hapticsim.errors import InvalidInputError, SchedulerError, WorkerDiedError
 from hapticsim.parallel.base import Executor, R, RemoteTraceback, T, limit_threads
 
@@ -135,12 +140,8 @@ def _call(func: Callable[[T], R], task: T) -> R:
 
 def _versions() -> dict[str, str]:
     """What must match between this process and the workers for identical results."""
-    import platform
 
-    import numpy
     import scipy
-
-    from hapticsim._version import __version__
 
     return {
         "hapticsim": __version__,
@@ -324,6 +325,4 @@ class DaskExecutor(Executor[T, R]):
 
 
 def _format_traceback(tb: Any) -> list[str]:
-    import traceback
-
     return traceback.format_tb(tb) if tb is not None else []

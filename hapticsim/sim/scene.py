@@ -34,6 +34,7 @@ from hapticsim.sim.object_mesh import (
     support_foot,
     support_radius,
 )
+from hapticsim.sim.tactile import SENSINGS, TAXEL_MODELS, add_mujoco_pads, pad_layouts, prepare_skin
 from hapticsim.sim.workspace import Workspace
 from hapticsim.tactile import SkinPreset, load_skin
 
@@ -92,8 +93,6 @@ class SceneConfig:
     taxel_model: str = "hapticsim"
 
     def __post_init__(self) -> None:
-        from hapticsim.sim.tactile import SENSINGS, TAXEL_MODELS
-
         object.__setattr__(self, "hand", load_hand(self.hand))
         if self.sensing not in SENSINGS:
             raise SimulationError(
@@ -274,7 +273,6 @@ def _compile_tactile(
     """Compile a scene whose hand has a skin (:func:`hapticsim.sim.tactile.prepare_skin`); with
     MuJoCo's taxel model, compile once to lay the pads out on the fingertips, add them, and
     compile again."""
-    from hapticsim.sim.tactile import add_mujoco_pads, pad_layouts, prepare_skin
 
     hand = config.hand
     tips = [touching_geom_name(f) for f in hand.fingers]

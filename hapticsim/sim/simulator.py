@@ -30,6 +30,7 @@ from hapticsim.sim.contacts import ContactState, fingertip_contacts
 from hapticsim.sim.dls import dls_step
 from hapticsim.sim.mujoco_log import take_last_warning
 from hapticsim.sim.scene import Scene
+from hapticsim.sim.tactile import TactileHand
 
 Array = NDArray[np.float64]
 
@@ -134,7 +135,6 @@ class Simulator:
         #: the skins' force coefficients per finger (tactile sensing), else None.
         self._skin_force = None
         if scene.config.sensing == "tactile":
-            from hapticsim.sim.tactile import TactileHand
 
             rng = np.random.default_rng(0) if tactile_rng is None else tactile_rng
             self.tactile = TactileHand(scene, rng)

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
+from hapticsim.sim.hand import PREFIX
 from hapticsim.sim.hand_description import HandDescription
 from hapticsim.tactile import (
     PadLayout,
@@ -216,7 +217,6 @@ def pad_layouts(
         InvalidInputError: a pad on a geom it cannot follow (naming the finger), or a grid
             that does not fit the fingertip.
     """
-    from hapticsim.sim.hand import PREFIX
 
     desc = hand.description
     rows, cols, pitch = desc.pad_grid

@@ -19,7 +19,12 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import Superquadric, random_rotation
 from hapticsim.parallel import key_of, seed_sequence
+from hapticsim.suites.plugins import as_solid, load_fitter, load_policy
 from hapticsim.suites.suite import Case
 
 #: Quality measures of every case (SPEC §4), in table order.
@@ -119,8 +124,6 @@ def _fit(
             "fitter": method, "budget": int(evaluations), "evaluations": result.evaluations,
             "fit_status": result.status,
         }  # fmt: skip
-    from hapticsim.errors import InvalidInputError
-    from hapticsim.suites.plugins import as_solid, load_fitter
 
     func = load_fitter(fitter)
     try:
@@ -141,8 +144,6 @@ def _quality(
 ) -> dict[str, Any]:
     """epsilon, alpha, beta, IoU, Chamfer, and for superquadrics theta and the EOF of `estimate`
     (SPEC §2, §4; None where a solid has no EOF: a union, a mesh truth's theta); ``parts``."""
-    from hapticsim.constants import DEFAULT_LAMBDA
-    from hapticsim.geometry import Superquadric
     from hapticsim.geometry.eof import error_of_fit
     from hapticsim.metrics import score, theta
 
@@ -173,7 +174,6 @@ def _truth(body: str, rng: np.random.Generator) -> Any:
 
         return get_body(body)
     from hapticsim.data.distributions import ObjectDistribution
-    from hapticsim.geometry import random_rotation
 
     shape = ObjectDistribution(kind=body).sample(rng)
     return shape.transformed(random_rotation(rng), np.zeros(3))
@@ -276,7 +276,6 @@ def _run_policy(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any
 
 def _plugin_policy(spec: str, env: Any, seed: int) -> Any:
     from hapticsim.envs.policies import Policy
-    from hapticsim.suites.plugins import load_policy
 
     cls = load_policy(spec)
     try:
@@ -302,7 +301,6 @@ def _object_truth(name: str, rng: np.random.Generator) -> Any:
 
 def _run_objects(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
     from hapticsim.data.noise import add_noise
-    from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
     from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.session import run_exploration
 

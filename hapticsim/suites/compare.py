@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim._files import read_json
 from hapticsim._validate import finite_float
 from hapticsim.errors import InvalidInputError
 from hapticsim.suites.runner import FORMAT, FORMAT_VERSION
@@ -40,7 +41,6 @@ def load_results(path_or_data: str | Path | Mapping[str, Any], label: str = "res
     if isinstance(path_or_data, Mapping):
         data, where = dict(path_or_data), label
     else:
-        from hapticsim._files import read_json
 
         data, where = read_json(path_or_data), str(path_or_data)
     if not isinstance(data, dict) or data.get("format") != FORMAT:

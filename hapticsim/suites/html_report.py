@@ -17,12 +17,15 @@ of them or none.
 from __future__ import annotations
 
 import html
+import io
 import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from hapticsim._files import OutputSet, write_text_atomic
+from hapticsim.experiments.explore_report import write_bytes_atomic
 from hapticsim.suites.compare import compare_results, load_results
 from hapticsim.suites.report import COLUMNS
 
@@ -60,7 +63,6 @@ def _group_png(name: str, results: dict[str, float], baseline: dict[str, float] 
     import matplotlib
 
     matplotlib.use("Agg", force=False)  # as the other figure writers: a chosen backend stays
-    import io
 
     from matplotlib.figure import Figure
 
@@ -195,8 +197,6 @@ def write_report(
         InvalidInputError: a file that is not suite results, or results of another suite than
             the baseline's.
     """
-    from hapticsim._files import OutputSet, write_text_atomic
-    from hapticsim.experiments.explore_report import write_bytes_atomic
 
     new = load_results(results, "results")
     base = load_results(baseline, "baseline") if baseline is not None else None

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim.data.bodies import BODY_NAMES
+from hapticsim.envs.exploration import POLICY_STRATEGIES
 from hapticsim.errors import InvalidInputError
 
 #: Marks a parameter without default.
@@ -67,14 +69,10 @@ def _budget(value: Any, name: str) -> int | str:
 
 
 def _bodies() -> tuple[str, ...]:
-    from hapticsim.data.bodies import BODY_NAMES
-
     return (*BODY_NAMES, *RANDOM_BODIES)
 
 
 def _paper_bodies() -> tuple[str, ...]:
-    from hapticsim.data.bodies import BODY_NAMES
-
     return tuple(BODY_NAMES)
 
 
@@ -91,7 +89,6 @@ def _strategies() -> tuple[str, ...]:
 
 
 def _explorations() -> tuple[str, ...]:
-    from hapticsim.envs.exploration import POLICY_STRATEGIES
     from hapticsim.sim.strategies import strategy_names
 
     return (*strategy_names(), *POLICY_STRATEGIES)

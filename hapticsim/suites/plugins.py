@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import Solid, solid_from_dict
 
 _SPEC = re.compile(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*:[A-Za-z_]\w*(\.[A-Za-z_]\w*)*")
 _LOADED: dict[str, Any] = {}
@@ -139,7 +140,6 @@ def as_solid(value: Any) -> Any:
     Raises:
         InvalidInputError: anything else, or a dict that is not a valid superquadric or union.
     """
-    from hapticsim.geometry import Solid, solid_from_dict
 
     if isinstance(value, Solid):
         return value

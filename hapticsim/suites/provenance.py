@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import datetime
+import hashlib
 import os
 import platform
 import subprocess
 from importlib import metadata
 from pathlib import Path
 from typing import Any
+
+from hapticsim._version import __version__
 
 #: Distributions whose versions are recorded (those that can change a number).
 PACKAGES: tuple[str, ...] = (
@@ -98,7 +101,6 @@ def codegen_target() -> dict[str, Any]:
     for this CPU (the order of a matrix product's sums). Two runs with the same code, packages
     and targets give the same bytes; across targets, results may differ in the last digits.
     """
-    import hashlib
 
     out: dict[str, Any] = {"numba_cpu": None, "numba_features": None, "numpy_simd": None,
                            "blas": None}  # fmt: skip
@@ -148,7 +150,6 @@ def provenance(
         command: the command line, if run from one.
         started: when the run started (UTC).
     """
-    from hapticsim._version import __version__
 
     return {
         "hapticsim": __version__,

@@ -31,11 +31,13 @@ import time
 from pathlib import Path
 from typing import Any
 
+from hapticsim._files import check_output_path, write_text_atomic
 from hapticsim.errors import InvalidInputError, WorkerDiedError
 from hapticsim.parallel import Executor, make_executor
 from hapticsim.parallel.cluster import DEFAULT_TIMEOUT
 from hapticsim.suites.cases import QUALITY, TIMING_KEYS, CaseTask, case_cost, run_case
 from hapticsim.suites.kinds import get_kind
+from hapticsim.suites.plugins import describe, load_fitter, load_policy
 from hapticsim.suites.provenance import load_average, provenance
 from hapticsim.suites.suite import Suite, load_suite
 
@@ -51,7 +53,6 @@ def check_plugins(suite: Suite, fitter: str | None, policy: str | None) -> None:
     Raises:
         InvalidInputError: a plug-in for the other kind, or one that does not load.
     """
-    from hapticsim.suites.plugins import load_fitter, load_policy
 
     kind = get_kind(suite.kind)
     for option, spec in (("fitter", fitter), ("policy", policy)):
@@ -108,7 +109,6 @@ def run_suite(
     if not isinstance(suite, Suite):
         suite = load_suite(suite)
     if out is not None:
-        from hapticsim._files import check_output_path
 
         check_output_path(out)
     check_plugins(suite, fitter, policy)
@@ -173,8 +173,6 @@ def _assemble(
     suite: Suite, selected: tuple, records: list[dict[str, Any]], fitter: str | None,
     policy: str | None, pattern: str | None,
 ) -> dict[str, Any]:  # fmt: skip
-    from hapticsim.suites.plugins import describe
-
     failed = sum(r["status"] != "ok" for r in records)
     info = suite.summary()
     info["sha256"] = suite.sha256
@@ -212,7 +210,6 @@ def results_text(results: dict[str, Any]) -> str:
 
 def write_results(path: str | Path, results: dict[str, Any]) -> Path:
     """Write a results file atomically (a temporary file renamed into place)."""
-    from hapticsim._files import write_text_atomic
 
     return write_text_atomic(path, results_text(results))
 

@@ -21,8 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim._files import read_json
+from hapticsim.data.io import read_contacts
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Solid
+from hapticsim.geometry import Solid, solid_from_dict, solid_from_json
 
 #: Files every run directory holds (the truth is either of TRUTH_FILES).
 REQUIRED_FILES: tuple[str, ...] = ("contacts.npz", "fit.json", "metrics.json")
@@ -89,9 +91,7 @@ def load_run(path: str | Path) -> RunData:
         InvalidInputError: not a directory, required files missing (all named), or a file that
             does not read.
     """
-    from hapticsim.data.io import read_contacts
     from hapticsim.data.objects import load_mesh
-    from hapticsim.geometry import solid_from_dict, solid_from_json
 
     run = Path(path)
     if not run.is_dir():
@@ -131,8 +131,6 @@ def load_run(path: str | Path) -> RunData:
 
 
 def _read_object(path: Path) -> dict[str, Any]:
-    from hapticsim._files import read_json
-
     data = read_json(path)
     if not isinstance(data, dict):
         raise InvalidInputError(f"{path} must hold a JSON object")

@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from hapticsim._files import check_output_path, write_text_atomic
 from hapticsim.errors import InvalidInputError
 from hapticsim.viewer.run import RunData, State
 from hapticsim.viewer.scene import RunScene
@@ -69,7 +70,6 @@ def export_html(
     Returns:
         The written path.
     """
-    from hapticsim._files import check_output_path, write_text_atomic
 
     out = check_output_path(out, (".html", ".htm"))
     if not seconds_per_touch > 0:
