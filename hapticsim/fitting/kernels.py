@@ -37,6 +37,7 @@ from hapticsim.fitting.initial import seed_vectors
 from hapticsim.fitting.least_squares import least_squares_run, multi_start_run
 from hapticsim.fitting.ml import ml_objective
 from hapticsim.fitting.objective import Objective
+from hapticsim.fitting.problem import problem_jacobian, problem_residuals
 
 #: The independent parts of the kernels: (residual model, stage).
 PARTS: tuple[str, ...] = ("eof-lm", "eof-ga", "ml-lm", "ml-ga")
@@ -84,12 +85,21 @@ def _tiny_objective(model: str):  # noqa: ANN202 - an Objective
 
 
 def _run_part(part: str) -> None:
-    """Run `part`'s kernels once on a tiny problem (compiling or loading them)."""
+    """Run `part`'s kernels once on a tiny problem (compiling or loading them).
 
+    The order shares work between the workers of a cold compile: both stages call the model's
+    residuals, which numba compiles as functions of their own and caches. The genetic
+    algorithm's worker compiles them first; the least squares' worker meanwhile compiles the
+    Jacobian, which only it uses, and by the time its loop needs the residuals it usually loads
+    them from numba's cache instead of compiling them a second time (run alone, the order
+    changes nothing).
+    """
     model, stage = part.split("-")
     objective = _tiny_objective(model)
     seeds = seed_vectors(objective.points, objective.normals, None)
     if stage == "lm":
+        problem_residuals(objective.contacts, objective.problem, seeds[:2])
+        problem_jacobian(objective.contacts, objective.problem, seeds[0])
         multi_start_run(objective, seeds[:2], 1)
         least_squares_run(objective, seeds[0])
     else:
