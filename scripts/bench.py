@@ -40,6 +40,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -147,8 +148,47 @@ print(t1 - t0, t2 - t1, t3 - t2)
 """
 
 
+#: A warm process's set-up, step by step: numba's own start (its compiler's registries, which
+#: it loads before any cached function, scipy.linalg among them), then the kernels nH uses.
+_WARM_PARTS = """
+import time
+t0 = time.perf_counter()
+import hapticsim.fitting
+from hapticsim.fitting import kernels
+from numba.core.registry import cpu_target
+t1 = time.perf_counter()
+cpu_target.target_context.refresh()
+t2 = time.perf_counter()
+kernels.prepare("nH")
+t3 = time.perf_counter()
+print(t1 - t0, t2 - t1, t3 - t2)
+"""
+
+
+def _cli_fit(path: str, out: str, env: dict[str, str], runs: int = 5) -> dict[str, Any]:
+    """`hapticsim fit FILE` in fresh processes (the console script's code path): median wall,
+    and the fit's own `seconds` and `setup_seconds` from its JSON."""
+    walls, seconds, setup = [], [], []
+    for _ in range(runs):
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "hapticsim.cli", "fit", path, "--out", out],
+                       env=env, capture_output=True, check=True)  # fmt: skip
+        walls.append(time.perf_counter() - start)
+        data = json.loads(Path(out).read_text())
+        seconds.append(data["seconds"])
+        setup.append(data["setup_seconds"])
+    return {"runs": runs, "wall_median": float(np.median(walls)),
+            "seconds_median": float(np.median(seconds)),
+            "setup_seconds_median": float(np.median(setup))}  # fmt: skip
+
+
 def section_startup(args: argparse.Namespace) -> dict[str, Any]:
-    """First-fit time of fresh processes with numba's cache cold and warm."""
+    """First-fit time of fresh processes with numba's cache cold and warm; a warm process's
+    set-up step by step; and `hapticsim fit FILE` (150 contacts) from start to exit."""
+    from hapticsim.data.bodies import get_body
+    from hapticsim.data.io import Contacts, write_contacts
+    from hapticsim.data.synthetic import paper_dataset
+
     out: dict[str, Any] = {"load": _load()}
     with tempfile.TemporaryDirectory() as cache:
         env = os.environ | {"NUMBA_CACHE_DIR": cache}
@@ -160,6 +200,20 @@ def section_startup(args: argparse.Namespace) -> dict[str, Any]:
             imp, first, second = (float(v) for v in proc.stdout.split())
             out[label] = {"import_seconds": imp, "first_fit_seconds": first,
                           "second_fit_seconds": second}  # fmt: skip
+        parts = []
+        for _ in range(5):
+            proc = subprocess.run([sys.executable, "-c", _WARM_PARTS], env=env,
+                                  capture_output=True, text=True, check=True)  # fmt: skip
+            parts.append([float(v) for v in proc.stdout.split()])
+        imp, numba_start, kernels = np.median(np.array(parts), axis=0)
+        out["warm_setup"] = {"import_fitting_seconds": float(imp),
+                             "numba_start_seconds": float(numba_start),
+                             "kernel_load_seconds": float(kernels)}  # fmt: skip
+        data = paper_dataset(get_body("cube"), noise=0.02, rng=0)
+        contacts = Path(cache) / "contacts.npz"
+        write_contacts(contacts, Contacts(points=data.points, normals=data.normals))
+        out["cli_fit"] = _cli_fit(str(contacts), str(Path(cache) / "fit.json"), env)
+    out["load_end"] = _load()
     return out
 
 
