@@ -261,7 +261,8 @@ def _explore(
         if compiling is not None:
             bar.set_postfix_str("compiling the fitter's kernels (once per installation)")
             prepare_figures()  # meanwhile: this process is idle
-            compiling.wait(say=lambda line: bar.set_postfix_str(line.removeprefix("hapticsim: ")))
+            compiling.wait(say=lambda line: bar.set_postfix_str(line.removeprefix("hapticsim: ")),
+                           load=True)  # fmt: skip
         bar.set_postfix_str("fitting")
         # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of
         # the smallest fingertip radius (docs/nml/README.md: free space).

@@ -166,7 +166,9 @@ def contact_residuals(
     count = int(np.prod(batch, dtype=np.int64))
 
     def flat(x: Array, tail: tuple[int, ...]) -> Array:
-        return np.ascontiguousarray(np.broadcast_to(x, batch + tail).reshape((count, *tail)))
+        # A writable copy: a read-only view (what broadcasting gives) is another numba type,
+        # which would compile the kernel a second time beside the solvers' cached one.
+        return np.array(np.broadcast_to(x, batch + tail).reshape((count, *tail)), order="C")
 
     out = np.empty((count, contacts.count))
     kernel.residuals_posed(
