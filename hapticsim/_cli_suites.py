@@ -137,7 +137,7 @@ def _policies_epilog() -> str:
 def add_policies_parser(sub: Any) -> None:
     """``hapticsim policies evaluate`` (exploration policies on HapticExplore-v0, SPEC §6)."""
     from hapticsim.data.distributions import OBJECT_KINDS
-    from hapticsim.envs.haptic_explore_v0 import BACKENDS
+    from hapticsim.envs.backends import BACKENDS
 
     policies = sub.add_parser("policies", help="exploration policies: evaluate one (JSON)")
     cmds = policies.add_subparsers(dest="policies_command", required=True, parser_class=_Parser)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from hapticsim.benchmarks.env import benchmark_env
 from hapticsim.data.io import write_text_atomic
-from hapticsim.envs.haptic_explore_v0 import BACKENDS
+from hapticsim.envs.backends import BACKENDS
 
 
 def main(argv: list[str] | None = None) -> int:

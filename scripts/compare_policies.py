@@ -20,7 +20,7 @@ from pathlib import Path
 
 from hapticsim.benchmarks.comparison import compare_policies, write_comparison
 from hapticsim.data.distributions import OBJECT_KINDS
-from hapticsim.envs.haptic_explore_v0 import BACKENDS
+from hapticsim.envs.backends import BACKENDS
 from hapticsim.envs.policies import POLICY_NAMES
 
 

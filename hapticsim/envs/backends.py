@@ -7,6 +7,9 @@ from typing import Any
 
 from hapticsim.envs.touch import TouchBackend
 
+#: Backends that execute touches.
+BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
+
 
 def make_backend(config: Any) -> TouchBackend:
     """The touch backend named by ``config.backend`` of a
@@ -26,4 +29,4 @@ def make_backend(config: Any) -> TouchBackend:
     )  # fmt: skip
 
 
-__all__ = ["make_backend"]
+__all__ = ["BACKENDS", "make_backend"]

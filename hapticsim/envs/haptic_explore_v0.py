@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.data.io import Contacts
-from hapticsim.envs.backends import make_backend
+from hapticsim.envs.backends import BACKENDS, make_backend
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
@@ -32,8 +32,6 @@ from hapticsim.sim.rough import DepthCamera, vision_estimate
 
 Array = NDArray[np.float64]
 
-#: Backends that execute touches.
-BACKENDS: tuple[str, ...] = ("mujoco", "analytic")
 #: Reward definitions.
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.

@@ -130,7 +130,7 @@ def _object_kinds() -> tuple[str, ...]:
 
 
 def _backends() -> tuple[str, ...]:
-    from hapticsim.envs.haptic_explore_v0 import BACKENDS
+    from hapticsim.envs.backends import BACKENDS
 
     return tuple(BACKENDS)
 
