@@ -36,6 +36,12 @@ reduction and short series; relative error below 1e-15, :func:`exp_` and :func:`
 calling libm, which LLVM cannot vectorise. Contacts are stored as (3, n) rows so the vector
 loads are contiguous. Everything is compiled with ``cache=True``: a fresh process loads the
 machine code from numba's cache instead of compiling it again (seconds).
+
+**Shared with fitting.** The passes of one contact (:func:`shape_forward`, :func:`normal_forward`
+and their reverses), the frames (:func:`body_frame`, :func:`jacobian_frame`, :func:`to_body`,
+:func:`rotate_to_body`) and :func:`world_column` are public: nML's residuals
+(:mod:`hapticsim.fitting._ml_compiled`) inline them, and the solvers reach the residuals through
+:mod:`hapticsim.fitting._problem_compiled`.
 """
 
 from __future__ import annotations
