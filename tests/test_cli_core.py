@@ -178,6 +178,39 @@ def test_console_process_reports_bad_input_without_traceback(tmp_path: Path) -> 
     assert len(proc.stderr.splitlines()) == 1 and "not found" in proc.stderr
 
 
+_RUN_WITH_HANDLER = """
+import atexit, sys
+atexit.register(lambda: print("exit handler ran", file=sys.stderr))
+from hapticsim.cli import run
+sys.argv = ["hapticsim", *sys.argv[1:]]
+run()
+"""
+
+
+def test_the_console_script_ends_quickly_but_keeps_its_contract(tmp_path: Path) -> None:
+    # cli.run leaves through os._exit: exit handlers still run, stdout is complete, the status
+    # is main's (a fit's JSON on stdout; bad input: status 2 and one line)
+    rng = np.random.default_rng(0)
+    d = rng.normal(size=(40, 3))
+    np.savez(tmp_path / "c.npz", points=0.03 * d / np.linalg.norm(d, axis=1, keepdims=True))
+    env = os.environ | {"PYTHONPATH": str(REPO)}
+    good = subprocess.run(
+        [sys.executable, "-c", _RUN_WITH_HANDLER, "fit", "c.npz", "--method", "LS"],
+        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300,
+    )  # fmt: skip
+    assert good.returncode == 0, good.stderr
+    assert json.loads(good.stdout)["method"] == "LS"
+    assert good.stderr.splitlines()[-1] == "exit handler ran"
+    bad = subprocess.run(
+        [sys.executable, "-c", _RUN_WITH_HANDLER, "fit", "missing.npz"],
+        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300,
+    )  # fmt: skip
+    assert (bad.returncode, bad.stdout) == (2, "")
+    assert bad.stderr.splitlines() == [
+        "hapticsim fit: error: contacts file not found: missing.npz", "exit handler ran"
+    ]
+
+
 def test_huge_coordinates_end_in_one_line_not_a_linalg_error(tmp_path: Path) -> None:
     # issue 14: contacts at 1e300 m ended in a LinAlgError traceback after overflow warnings
     rng = np.random.default_rng(0)
