@@ -391,11 +391,12 @@ def test_ctrl_c_while_explore_writes_its_files_leaves_none_of_them(
 def test_ctrl_c_while_reproduce_writes_its_files_leaves_none_of_them(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from hapticsim.data import io
+    from hapticsim.experiments import reproduce as module
     from hapticsim.experiments.reproduce import reproduce
 
     # every table, picture and the report are written; Ctrl-C arrives as summary.json is
-    _interrupt_on_call(monkeypatch, io, "write_json", 1)
+    # (reproduce's own write_json: the name it calls)
+    _interrupt_on_call(monkeypatch, module, "write_json", 1)
     with pytest.raises(KeyboardInterrupt):
         reproduce("fig4", tmp_path / "rep", runs=1, workers=1, budget=300, progress=False,
                   results=tmp_path / "RESULTS.md")  # fmt: skip
