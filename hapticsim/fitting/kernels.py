@@ -88,11 +88,10 @@ def _run_part(part: str) -> None:
     """Run `part`'s kernels once on a tiny problem (compiling or loading them).
 
     The order shares work between the workers of a cold compile: both stages call the model's
-    residuals, which numba compiles as functions of their own and caches. The genetic
-    algorithm's worker compiles them first; the least squares' worker meanwhile compiles the
-    Jacobian, which only it uses, and by the time its loop needs the residuals it usually loads
-    them from numba's cache instead of compiling them a second time (run alone, the order
-    changes nothing).
+    residuals, which numba compiles as functions of their own and caches. The least squares'
+    worker compiles them first (then the Jacobian, then its loop); the genetic algorithm's
+    worker reaches them later in its own compile and usually loads them from numba's cache
+    instead of compiling them a second time (run alone, the order changes nothing).
     """
     model, stage = part.split("-")
     objective = _tiny_objective(model)
