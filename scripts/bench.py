@@ -15,8 +15,9 @@ listing it in ``SECTIONS``):
 - ``score``: one step's scoring in the environment (:class:`hapticsim.metrics.episode.
   TruthScorer`: alpha, beta, epsilon, IoU, Chamfer) and one ``hapticsim score`` (100 000 samples).
 - ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend,
-  one process (resets counted and not), and ``make_vec(..., num_envs=2, "async")`` against one
-  process in the same run.
+  one process (resets counted and not), and ``make_vec(..., num_envs=8)`` (hapticsim's vector
+  environment, one worker per core) and Gymnasium's ``AsyncVectorEnv`` of 8 against one process,
+  in turn in the same run (:func:`hapticsim.benchmarks.env.benchmark_vector_env`).
 - ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
   exploration per body (:func:`hapticsim.benchmarks.sim.benchmark_sim`).
 - ``multi``: the median wall and CPU seconds of a ``method="multi"`` fit of 300 contacts against
@@ -264,8 +265,9 @@ def section_env(args: argparse.Namespace) -> dict[str, Any]:
         episodes = args.env_episodes if backend == "analytic" else args.mujoco_episodes
         out[backend] = benchmark_env(backend, episodes) | {"load": _load()}
         out[f"{backend}_vector"] = benchmark_vector_env(
-            backend, 2, args.vector_steps if backend == "analytic" else args.vector_steps // 4
-        ) | {"load": _load()}
+            backend, args.num_envs,
+            args.vector_steps if backend == "analytic" else args.vector_steps // 4,
+        ) | {"load": _load()}  # fmt: skip
     return out
 
 
@@ -376,7 +378,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--backends", nargs="+", default=["analytic", "mujoco"])
     parser.add_argument("--env-episodes", type=int, default=20, help="env: analytic episodes")
     parser.add_argument("--mujoco-episodes", type=int, default=5, help="env: MuJoCo episodes")
-    parser.add_argument("--vector-steps", type=int, default=1000, help="env: steps per variant")
+    parser.add_argument("--vector-steps", type=int, default=1600, help="env: steps per variant")
+    parser.add_argument("--num-envs", type=int, default=8, help="env: vector environments' N")
     args = parser.parse_args(argv)
     names = list(SECTIONS) if "all" in args.section else args.section
     out: dict[str, Any] = {"load_average_1min": _load(), "cpus": os.cpu_count()}

@@ -12,6 +12,7 @@ import gymnasium as gym
 import numpy as np
 
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
+from hapticsim.envs.vector import default_workers
 from hapticsim.errors import InvalidInputError
 
 #: Steps before timing a vector environment (its workers load the compiled code first).
@@ -191,10 +192,11 @@ def benchmark_touch(
 
 def _single_steps(
     backend: str, seed: int, steps: int, env_kwargs: dict[str, Any], barrier: Any = None
-) -> tuple[list[float], float, float]:
+) -> tuple[list[float], float, float, list[float]]:
     """Wall time [s] of each of `steps` random steps of one environment (a reset inside the
-    step that needs it, as a vector environment's autoreset does), after a warm-up; and the
-    clock at the start and end of the timed steps. With a `barrier`, the timed steps start when
+    step that needs it, as a vector environment's autoreset does), after a warm-up; the clock
+    at the start and end of the timed steps; and the reset's share of each step time [s] (0
+    without one). With a `barrier`, the timed steps start when
     every party has warmed up (several processes running at once)."""
 
     register_envs()
@@ -207,22 +209,25 @@ def _single_steps(
     if barrier is not None:
         barrier.wait()
     times = []
+    resets = []
     begin = time.perf_counter()
     for _ in range(steps):
         t = time.perf_counter()
         _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        r = time.perf_counter()
         if terminated or truncated:
             env.reset()
         times.append(time.perf_counter() - t)
+        resets.append(time.perf_counter() - r)
     end = time.perf_counter()
     env.close()
-    return times, begin, end
+    return times, begin, end, resets
 
 
 def _free_running(args: tuple[str, int, int, dict[str, Any], Any]) -> tuple[int, float, float]:
     """One of several independent single environments started together: (steps, start, end)."""
     backend, seed, steps, env_kwargs, barrier = args
-    _, begin, end = _single_steps(backend, seed, steps, env_kwargs, barrier)
+    _, begin, end, _ = _single_steps(backend, seed, steps, env_kwargs, barrier)
     return steps, begin, end
 
 
@@ -243,79 +248,167 @@ def lockstep_bound(step_seconds: Any, num_envs: int, draws: int = 200, seed: int
     return float(num_envs * x.mean() / slowest)
 
 
-def benchmark_vector_env(
-    backend: str = "analytic",
-    num_envs: int = 2,
-    steps: int = 400,
-    seed: int = 0,
-    **env_kwargs: Any,
-) -> dict[str, Any]:
-    """Steps per second of ``gym.make_vec(..., vectorization_mode="async")`` against one process.
+def shard_estimate(step_seconds: Any, reset_seconds: Any, num_envs: int, shards: int,
+                draws: int = 400, seed: int = 0) -> float:  # fmt: skip
+    """The speed-up N environments in `shards` processes (N / shards each, one core per
+    process) would reach with these step times, were the environments' step times independent.
 
-    Three variants, one after the other on the same number of environment steps (resets
-    included, as the vector environment resets itself), so that their ratios are measured under
-    the same machine load: one environment in this process; the vector environment; and
-    `num_envs` independent single environments in as many processes at once (*free running*:
-    what the cores give when nobody waits for anybody). From the single environment's step times
-    also the *lockstep bound* (:func:`lockstep_bound`): the vector environment waits for its
-    slowest environment at every step, and a step's cost varies (a full fit, a refinement, a
-    kept estimate, a reset), so its speed-up is at most that, whatever the communication costs.
+    A vector step waits for the slowest shard, whose time is the sum of its environments' step
+    times: the rate is ``N / (E[max_w sum_{i in w} X_i] + N / shards * E[R])`` against
+    ``1 / E[X + R]`` for one environment, X a step's time without its reset and R the reset's
+    (0 in most steps). The expectation over X is taken over random draws of the measured times;
+    resets count as balanced, since episodes of one length end in the same vector step. In a
+    vector environment the step times of its environments are not independent (they are at the
+    same touch, and full fits come at the same touch counts), which balances the shards a
+    little better than this estimate.
 
     Args:
-        backend: ``"analytic"`` or ``"mujoco"``.
-        num_envs: environments (worker processes) of the vector environment, >= 1.
-        steps: environment steps to time in each (``steps / num_envs`` vector steps).
-        seed: seed of the environments and actions.
-        **env_kwargs: further environment settings.
-
-    Returns:
-        ``single_steps_per_second``, ``vector_steps_per_second``, their ``speedup``,
-        ``free_running_speedup``, ``lockstep_bound`` and the single environment's step times
-        (``single_step_ms``: mean, median, p90, max).
+        step_seconds: (k,) float, measured step times [s], resets included.
+        reset_seconds: (k,) float, the reset's share of each [s].
+        num_envs: environments N.
+        shards: worker processes.
     """
 
-    if num_envs < 1 or steps < num_envs:
-        raise InvalidInputError(
-            f"need num_envs >= 1 and steps >= num_envs, got {num_envs}, {steps}"
-        )
-    register_envs()
-    times, begin, end = _single_steps(backend, seed, steps, env_kwargs)
-    single_rate = steps / (end - begin)
-    vec = gym.make_vec(
-        HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async", backend=backend,
-        **env_kwargs,
-    )  # fmt: skip
+    r = np.asarray(reset_seconds, dtype=float)
+    x = np.asarray(step_seconds, dtype=float) - r
+    gen = np.random.default_rng(seed)
+    sizes = [len(b) for b in np.array_split(np.arange(num_envs), shards)]
+    slowest = np.mean([max(gen.choice(x, k).sum() for k in sizes) for _ in range(draws)])
+    return float(num_envs * (x.mean() + r.mean()) / (slowest + max(sizes) * r.mean()))
+
+
+#: Vector environments :func:`benchmark_vector_env` can time.
+VECTOR_VARIANTS: tuple[str, ...] = ("native", "async")
+
+
+def _vector_rate(
+    variant: str, backend: str, num_envs: int, steps: int, seed: int, workers: int | None,
+    env_kwargs: dict[str, Any],
+) -> float:  # fmt: skip
+    """Environment steps per second of one vector environment (after its warm-up steps)."""
+    if variant.startswith("native"):
+        if ":" in variant:  # "native:W"
+            workers = int(variant.split(":")[1])
+        vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, backend=backend,
+                           workers=workers, **env_kwargs)  # fmt: skip
+    else:
+        vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async",
+                           backend=backend, **env_kwargs)  # fmt: skip
     vec.action_space.seed(seed)
     vec.reset(seed=seed)
     for _ in range(WARMUP_STEPS):  # each worker loads the compiled code in its first fits
         vec.step(vec.action_space.sample())
-    rounds = steps // num_envs
+    rounds = max(1, steps // num_envs)
     start = time.perf_counter()
     for _ in range(rounds):
         vec.step(vec.action_space.sample())
-    vector_rate = rounds * num_envs / (time.perf_counter() - start)
+    rate = rounds * num_envs / (time.perf_counter() - start)
     vec.close()
-    context = multiprocessing.get_context("spawn")
-    with context.Manager() as manager:
-        barrier = manager.Barrier(num_envs)
-        jobs = [(backend, seed + k, rounds, env_kwargs, barrier) for k in range(num_envs)]
-        with context.Pool(num_envs) as pool:
-            runs = pool.map(_free_running, jobs)
-    free_rate = sum(n / (end - begin) for n, begin, end in runs)
-    ms = np.asarray(times) * 1e3
-    return {
+    return rate
+
+
+def benchmark_vector_env(
+    backend: str = "analytic",
+    num_envs: int = 8,
+    steps: int = 1600,
+    seed: int = 0,
+    variants: tuple[str, ...] = VECTOR_VARIANTS,
+    workers: int | None = None,
+    repeats: int = 2,
+    free_running: bool = True,
+    **env_kwargs: Any,
+) -> dict[str, Any]:
+    """Steps per second of vector environments against one environment, in the same run.
+
+    The variants and one environment in this process run in turn, `repeats` times (single,
+    each variant, single, ...), on the same number of environment steps (resets included, as a
+    vector environment resets itself), so that their ratios are measured under the same machine
+    load; the medians are reported. Variants: ``"native"``, hapticsim's vector environment
+    (:class:`~hapticsim.envs.vector.HapticVectorEnv`, `workers` processes of N / workers
+    environments each); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
+    environment). Optionally also two independent single environments in two processes at once
+    (*free running*: what the cores give when nobody waits for anybody), and from the single
+    environment's step times the *lockstep bound* (:func:`lockstep_bound`): a vector environment
+    whose every environment has a core of its own waits for its slowest environment at every
+    step, so its speed-up is at most that.
+
+    Args:
+        backend: ``"analytic"`` or ``"mujoco"``.
+        num_envs: environments of the vector environments, >= 1.
+        steps: environment steps to time in each (``steps / num_envs`` vector steps).
+        seed: seed of the environments and actions.
+        variants: vector environments to time (:data:`VECTOR_VARIANTS`; ``"native:W"`` is
+            the native one with W workers).
+        workers: worker processes of ``"native"`` (None: one per core).
+        repeats: rounds of single + variants, >= 1.
+        free_running: also time two free-running processes.
+        **env_kwargs: further environment settings.
+
+    Returns:
+        ``single_steps_per_second`` (median and each round), per variant its
+        ``steps_per_second``, ``speedup`` (median over median single) and each round's rate;
+        ``free_running_speedup`` (two processes), ``lockstep_bound`` (at `num_envs`, one core
+        each), ``shard_estimate`` (:func:`shard_estimate`, the native variant's workers) and the
+        single environment's step times (``single_step_ms``: mean, median, p90, max).
+    """
+
+    if num_envs < 1 or steps < num_envs or repeats < 1:
+        raise InvalidInputError(
+            f"need num_envs >= 1, steps >= num_envs and repeats >= 1, got {num_envs}, {steps}, "
+            f"{repeats}"
+        )
+    unknown = {v for v in variants if v.split(":")[0] not in VECTOR_VARIANTS
+               or v.startswith("async:") or (":" in v and not v.split(":")[1].isdigit())}
+    if unknown:
+        raise InvalidInputError(
+            f"`variants` must be among {VECTOR_VARIANTS} or 'native:W', got {sorted(unknown)}"
+        )
+    register_envs()
+    singles: list[float] = []
+    rates: dict[str, list[float]] = {v: [] for v in variants}
+    times: list[float] = []
+    resets: list[float] = []
+    for _ in range(repeats):
+        step_times, begin, end, reset_times = _single_steps(backend, seed, steps, env_kwargs)
+        times += step_times
+        resets += reset_times
+        singles.append(steps / (end - begin))
+        for variant in variants:
+            rates[variant].append(
+                _vector_rate(variant, backend, num_envs, steps, seed, workers, env_kwargs)
+            )
+    single_rate = float(np.median(singles))
+    out: dict[str, Any] = {
         "backend": backend,
         "num_envs": num_envs,
-        "steps": int(rounds * num_envs),
-        "single_steps_per_second": float(single_rate),
-        "vector_steps_per_second": float(vector_rate),
-        "speedup": float(vector_rate / single_rate),
-        "free_running_steps_per_second": float(free_rate),
-        "free_running_speedup": float(free_rate / single_rate),
-        "lockstep_bound": lockstep_bound(times, num_envs),
-        "single_step_ms": {
-            "mean": float(ms.mean()), "median": float(np.median(ms)),
-            "p90": float(np.percentile(ms, 90)), "max": float(ms.max()),
-        },
-        "actions": "random",
+        "steps": int(steps),
+        "repeats": repeats,
+        "single_steps_per_second": single_rate,
+        "single_rounds": singles,
+    }
+    for variant, values in rates.items():
+        out[variant] = {
+            "steps_per_second": float(np.median(values)),
+            "speedup": float(np.median(values) / single_rate),
+            "rounds": values,
+        }
+    out["native_workers"] = workers
+    if free_running:
+        context = multiprocessing.get_context("spawn")
+        with context.Manager() as manager:
+            barrier = manager.Barrier(2)
+            jobs = [(backend, seed + k, steps // 2, env_kwargs, barrier) for k in range(2)]
+            with context.Pool(2) as pool:
+                runs = pool.map(_free_running, jobs)
+        out["free_running_speedup"] = sum(n / (e - b) for n, b, e in runs) / single_rate
+    ms = np.asarray(times) * 1e3
+    out["lockstep_bound"] = lockstep_bound(times, num_envs)
+    cores = default_workers(num_envs)
+    out["shard_estimate"] = shard_estimate(times, resets, num_envs, workers or cores)
+    out["cores"] = cores
+    out["single_step_ms"] = {
+        "mean": float(ms.mean()), "median": float(np.median(ms)),
+        "p90": float(np.percentile(ms, 90)), "max": float(ms.max()),
     }  # fmt: skip
+    out["actions"] = "random"
+    return out

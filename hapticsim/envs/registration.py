@@ -15,6 +15,10 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
 - ``hapticsim/HapticExploreTactile-v0``: the task felt through taxel pads, their images in the
   observation (:class:`~hapticsim.envs.haptic_explore_tactile_v0.HapticExploreTactileEnv`): an
   environment of its own name, another observation (SPEC §8).
+
+Each id's vector entry point is :class:`~hapticsim.envs.vector.HapticVectorEnv`: ``gym.make_vec(
+env_id, num_envs=N)`` steps the N environments in one worker process per CPU core, not one per
+environment; ``vectorization_mode="sync"`` or ``"async"`` still gives Gymnasium's own.
 """
 
 from __future__ import annotations
@@ -61,6 +65,14 @@ def make_renamed(old_id: str, **kwargs: object):  # noqa: ANN201 - a gymnasium.E
     return gym.make(new_id, **kwargs).unwrapped
 
 
+def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: ANN201
+    """Vector entry point of every id: :class:`~hapticsim.envs.vector.HapticVectorEnv` (N
+    environments in a few worker processes; ``gym.make_vec(env_id, num_envs=N)``)."""
+    from hapticsim.envs.vector import HapticVectorEnv
+
+    return HapticVectorEnv(env_id, num_envs=num_envs, **kwargs)
+
+
 def register_envs() -> None:
     """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0`` and
     ``hapticsim/HapticExploreTactile-v0``, and the renamed ids (:data:`RENAMED_IDS`); calling
@@ -83,5 +95,6 @@ def register_envs() -> None:
         if env_id in registry:
             continue
         register(
-            id=env_id, entry_point=entry_point, max_episode_steps=None, disable_env_checker=False
-        )
+            id=env_id, entry_point=entry_point, max_episode_steps=None, disable_env_checker=False,
+            vector_entry_point=partial(make_vector_env, env_id),
+        )  # fmt: skip

@@ -1,12 +1,15 @@
-"""Vectorised use: SyncVectorEnv, AsyncVectorEnv and gymnasium.make_vec."""
+"""Vectorised use: SyncVectorEnv, AsyncVectorEnv, gymnasium.make_vec and HapticVectorEnv."""
 
 from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
 import pytest
+from gymnasium.vector import AutoresetMode
 
-from hapticsim.envs.registration import HAPTIC_EXPLORE_ID
+from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_ID
+from hapticsim.envs.vector import HapticVectorEnv, VectorEnvError
+from hapticsim.errors import InvalidInputError
 
 KWARGS = {
     "backend": "analytic",
@@ -55,3 +58,144 @@ def test_vector_envs_are_seeded_alike() -> None:
 
     for a, b in zip(rollout("sync"), rollout("async"), strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+# ---------------------------------------------------------------- HapticVectorEnv (native)
+
+
+def _rollout(envs: gym.vector.VectorEnv, steps: int = 10, seed: int = 3) -> list[object]:
+    """Everything a seeded rollout returns, as plain values (across autoresets: budget 4)."""
+    obs, info = envs.reset(seed=seed)
+    out: list[object] = [obs, info["epsilon"].copy()]
+    rng = np.random.default_rng(0)
+    n = envs.num_envs
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = envs.step(
+            rng.uniform(-1, 1, (n, 5)).astype(np.float32)
+        )
+        out += [obs, reward, terminated, truncated]
+        out += [info[k].copy() for k in ("epsilon", "n_contacts", "fit_status", "fit_eof")]
+    envs.close()
+    return out
+
+
+def _assert_same(a: list[object], b: list[object]) -> None:
+    assert len(a) == len(b)
+    for x, y in zip(a, b, strict=True):
+        if isinstance(x, dict):
+            assert x.keys() == y.keys()
+            for k in x:
+                np.testing.assert_array_equal(x[k], y[k], err_msg=k)
+        else:
+            np.testing.assert_array_equal(x, y)
+
+
+def test_make_vec_defaults_to_the_native_vector_env() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=2, workers=0, **KWARGS)
+    assert isinstance(envs, HapticVectorEnv)
+    assert envs.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    _run(envs)
+
+
+@pytest.mark.parametrize("workers", [0, 2, 3])
+def test_native_matches_sync_bit_for_bit(workers: int) -> None:
+    """Each environment of the batch gives what it gives alone (Gymnasium's SyncVectorEnv),
+    across autoresets, whatever the sharding (3 workers: shards of 2, 1, 1)."""
+    sync = _rollout(gym.make_vec(HAPTIC_EXPLORE_ID, 4, vectorization_mode="sync", **KWARGS))
+    native = _rollout(gym.make_vec(HAPTIC_EXPLORE_ID, 4, workers=workers, **KWARGS))
+    _assert_same(sync, native)
+
+
+def test_same_step_autoreset_matches_sync() -> None:
+    def rollout(envs: gym.vector.VectorEnv) -> list[object]:
+        envs.reset(seed=7)
+        out: list[object] = []
+        rng = np.random.default_rng(1)
+        for _ in range(5):  # budget 4: the 4th step ends and resets at once
+            obs, reward, terminated, truncated, info = envs.step(
+                rng.uniform(-1, 1, (2, 5)).astype(np.float32)
+            )
+            out += [obs["points"], obs["touches"], reward, truncated]
+            if truncated.any():
+                assert info["_final_obs"].tolist() == truncated.tolist()
+                out += [info["final_obs"][0]["points"], info["final_info"]["epsilon"]]
+        envs.close()
+        return out
+
+    sync = rollout(gym.make_vec(
+        HAPTIC_EXPLORE_ID, 2, vectorization_mode="sync",
+        vector_kwargs={"autoreset_mode": AutoresetMode.SAME_STEP}, **KWARGS,
+    ))  # fmt: skip
+    native = rollout(gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, autoreset_mode="same_step",
+                                  **KWARGS))  # fmt: skip
+    assert any(np.any(x) for x in sync[3::4][:4])  # a truncation happened
+    _assert_same(sync, native)
+
+
+def test_reset_mask_resets_only_those() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    obs, _, _, _, _ = envs.step(np.zeros((2, 5), np.float32))
+    obs, info = envs.reset(seed=[5, None], options={"reset_mask": np.array([True, False])})
+    assert obs["touches"][:, 0].tolist() == [0.0, 1.0]
+    assert info["_epsilon"].tolist() == [True, False]
+    envs.close()
+
+
+def test_call_get_attr_and_set_attr() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 3, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    assert envs.get_attr("n_fingers") == (4, 4, 4)
+    origins = envs.call("origin")  # a property: read, not called
+    assert len(origins) == 3 and all(o.shape == (3,) for o in origins)
+    envs.set_attr("marker", [1, 2, 3])
+    assert envs.get_attr("marker") == (1, 2, 3)
+    envs.close()
+
+
+def test_errors_name_the_environment() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 3, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    actions = np.zeros((3, 5), np.float32)
+    actions[2, 0] = np.nan
+    with pytest.raises(VectorEnvError, match=r"environment 2 .*action"):
+        envs.step(actions)
+    envs.close()
+    envs.close()  # twice is fine
+    with pytest.raises(InvalidInputError, match="closed"):
+        envs.step(np.zeros((3, 5), np.float32))
+
+
+def test_a_dead_worker_is_reported() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    envs._shards[1].process.kill()
+    envs._shards[1].process.join()
+    with pytest.raises(VectorEnvError, match="worker 1 died"):
+        envs.step(np.zeros((2, 5), np.float32))
+    envs.close()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"num_envs": 0}, "num_envs"),
+        ({"num_envs": 2, "workers": -1}, "workers"),
+        ({"num_envs": 2, "autoreset_mode": "sometimes"}, "autoreset_mode"),
+        ({"num_envs": 2, "context": "teleport"}, "context"),
+        ({"num_envs": 2, "touch_budget": 0}, "touch_budget"),
+    ],
+)
+def test_bad_settings_raise_clear_errors(kwargs: dict, match: str) -> None:
+    with pytest.raises(InvalidInputError, match=match):
+        HapticVectorEnv(HAPTIC_EXPLORE_ID, **(KWARGS | kwargs))
+
+
+def test_compact_id_vectorises_natively() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_COMPACT_ID, num_envs=2, workers=0, **KWARGS)
+    assert isinstance(envs, HapticVectorEnv)
+    obs, _ = envs.reset(seed=0)
+    assert obs.shape == (2, 85)
+    obs, reward, *_ = envs.step(envs.action_space.sample())
+    assert obs.shape == (2, 85) and reward.shape == (2,)
+    envs.close()

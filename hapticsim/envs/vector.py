@@ -1,0 +1,472 @@
+"""A native vector environment: N hapticsim environments in a few worker processes.
+
+``gym.make_vec("hapticsim/HapticExplore-v0", num_envs=8)`` (``vectorization_mode`` None or
+``"vector_entry_point"``) makes a :class:`HapticVectorEnv`: the N environments are split into
+``workers`` contiguous shards (by default one per CPU core), and each worker process steps its
+shard one environment after the other. A vector step then waits for the slowest *shard*, the sum
+of N / workers step times, instead of the slowest environment as Gymnasium's
+``AsyncVectorEnv`` (one process per environment) does: a step's cost varies by 20x (a full fit,
+a refinement, a kept estimate, a reset), and over a shard the spread averages out.
+
+Why processes and not threads: the compiled kernels release the GIL, but half of an analytic
+step is Python (the touch's section walk, the fitter's driver, the observation), so two threads
+stepping two environments give 1.4x one (``docs/vector.md``).
+
+Each environment is made by ``gym.make(env_id, **kwargs)`` in its worker, as Gymnasium's
+``SyncVectorEnv`` makes it, and seeded as there (``reset(seed=s)`` seeds environment i with
+``s + i``), so every environment of the batch gives the results it gives alone, bit for bit
+(``tests/envs/test_vector.py``). Autoreset as Gymnasium 1.x defines it: ``NEXT_STEP`` by default,
+``SAME_STEP`` and ``DISABLED`` on request (``autoreset_mode``).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import traceback
+from copy import deepcopy
+from multiprocessing.connection import Connection
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space, concatenate, create_empty_array, iterate
+
+from hapticsim._validate import positive_int
+from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.parallel.base import limit_threads
+
+#: Info keys whose value stays the same object for a whole episode: a worker sends them once per
+#: episode and the vector environment puts its copy back (a mesh truth is megabytes).
+EPISODE_CONSTANT_INFO: tuple[str, ...] = ("truth",)
+#: What a worker sends instead of an episode-constant value it has sent before.
+_SAME = "__hapticsim_same__"
+#: Seconds to wait for a worker to shut down before it is terminated.
+CLOSE_TIMEOUT: float = 10.0
+
+
+class VectorEnvError(HapticsimError):
+    """An environment of a :class:`HapticVectorEnv` failed, or its worker died."""
+
+
+def default_workers(num_envs: int) -> int:
+    """Worker processes for `num_envs` environments: one per usable CPU core, at most N."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(int(num_envs), cores))
+
+
+def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
+    """An :class:`AutoresetMode` from itself, its value (``"NextStep"``) or its snake-case
+    name (``"next_step"``)."""
+    if isinstance(value, AutoresetMode):
+        return value
+    key = str(value).replace("_", "").lower()
+    for mode in AutoresetMode:
+        if mode.value.lower() == key:
+            return mode
+    choices = ["next_step", "same_step", "disabled"]
+    raise InvalidInputError(f"`autoreset_mode` must be one of {choices}, got {value!r}")
+
+
+class _Shard:
+    """Environments stepped one after the other (in a worker process, or in this one)."""
+
+    def __init__(self, env_id: str, kwargs: dict[str, Any], size: int, mode: AutoresetMode,
+                 first: int = 0) -> None:  # fmt: skip
+        # (importing this module imported hapticsim, which registered the ids)
+        self.first = first  # index of the shard's first environment in the batch
+        self.current = first  # the environment being stepped (named in errors)
+        self.envs = []
+        for j in range(size):
+            self.current = first + j
+            self.envs.append(gym.make(env_id, **kwargs))
+        self.mode = mode
+        self.autoreset = [False] * size
+        self._sent: list[dict[str, Any]] = [{} for _ in range(size)]
+
+    def _pack(self, j: int, info: dict[str, Any]) -> dict[str, Any]:
+        """`info` with the episode-constant values already sent replaced by a marker."""
+        for key in EPISODE_CONSTANT_INFO:
+            if key in info:
+                if key in self._sent[j] and info[key] is self._sent[j][key]:
+                    info = {**info, key: _SAME}
+                else:
+                    self._sent[j][key] = info[key]
+        return info
+
+    def reset(self, seeds: list[int | None], options: dict[str, Any] | None, mask: list[bool]):
+        out = []
+        for j, (env, seed, on) in enumerate(zip(self.envs, seeds, mask, strict=True)):
+            if not on:
+                out.append(None)
+                continue
+            self.current = self.first + j
+            obs, info = env.reset(seed=seed, options=options)
+            self.autoreset[j] = False
+            out.append((obs, self._pack(j, info)))
+        return out
+
+    def _step_one(self, j: int, action: Any) -> tuple:
+        env = self.envs[j]
+        extra: dict[str, Any] = {}
+        if self.mode == AutoresetMode.NEXT_STEP and self.autoreset[j]:
+            obs, info = env.reset()
+            reward, terminated, truncated = 0.0, False, False
+        else:
+            obs, reward, terminated, truncated, info = env.step(action)
+            if self.mode == AutoresetMode.SAME_STEP and (terminated or truncated):
+                extra = {"final_obs": obs, "final_info": info}
+                obs, info = env.reset()
+        self.autoreset[j] = bool(terminated or truncated)
+        return obs, float(reward), bool(terminated), bool(truncated), extra, info
+
+    def step(self, actions: Any):
+        out = []
+        for j, action in enumerate(actions):
+            self.current = self.first + j
+            obs, reward, terminated, truncated, extra, info = self._step_one(j, action)
+            if extra:
+                extra["final_info"] = self._pack(j, extra["final_info"])
+            out.append((obs, reward, terminated, truncated, extra, self._pack(j, info)))
+        return out
+
+    def call(self, name: str, args: tuple, kwargs: dict[str, Any]) -> list[Any]:
+        out = []
+        for j, env in enumerate(self.envs):
+            self.current = self.first + j
+            attr = env.get_wrapper_attr(name)
+            out.append(attr(*args, **kwargs) if callable(attr) else attr)
+        return out
+
+    def set_attr(self, name: str, values: list[Any]) -> list[None]:
+        for env, value in zip(self.envs, values, strict=True):
+            env.set_wrapper_attr(name, value)
+        return [None] * len(self.envs)
+
+    def close(self) -> None:
+        for env in self.envs:
+            env.close()
+
+
+def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mode: str,
+           first: int) -> None:  # fmt: skip
+    """A worker process: answer the vector environment's commands until told to close."""
+    # One BLAS/OpenMP thread per worker, as in hapticsim's other process pools: the workers
+    # already fill the cores (on 2 cores and 8 environments no difference was measurable).
+    limit_threads()
+    try:
+        shard = _Shard(env_id, kwargs, size, AutoresetMode(mode), first)
+    except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
+        conn.send(("error", (first, type(exc).__name__, str(exc), traceback.format_exc())))
+        conn.close()
+        return
+    conn.send(("ok", None))
+    while True:
+        try:
+            command, data = conn.recv()
+        except (EOFError, KeyboardInterrupt):
+            break
+        try:
+            if command == "close":
+                shard.close()
+                conn.send(("ok", None))
+                break
+            conn.send(("ok", getattr(shard, command)(*data)))
+        except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
+            trace = traceback.format_exc()
+            conn.send(("error", (shard.current, type(exc).__name__, str(exc), trace)))
+    conn.close()
+
+
+class _Remote:
+    """A shard in a worker process (same commands as :class:`_Shard`, sent through a pipe)."""
+
+    def __init__(self, context: Any, env_id: str, kwargs: dict[str, Any], size: int,
+                 mode: AutoresetMode, first: int, name: str) -> None:  # fmt: skip
+        self.conn, child = context.Pipe()
+        self.process = context.Process(
+            target=_serve, args=(child, env_id, kwargs, size, mode.value, first), name=name,
+            daemon=True,
+        )  # fmt: skip
+        self.process.start()
+        child.close()
+        self.name = name
+
+    def send(self, command: str, *data: Any) -> None:
+        try:
+            self.conn.send((command, data))
+        except (BrokenPipeError, ConnectionResetError, EOFError) as exc:
+            self.process.join(1.0)
+            code = self.process.exitcode
+            raise VectorEnvError(f"worker {self.name} died (exit code {code})") from exc
+
+    def receive(self) -> Any:
+        try:
+            status, payload = self.conn.recv()
+        except (EOFError, ConnectionResetError, BrokenPipeError) as exc:
+            code = self.process.exitcode
+            raise VectorEnvError(f"worker {self.name} died (exit code {code})") from exc
+        if status == "error":
+            index, kind, message, trace = payload
+            raise VectorEnvError(
+                f"environment {index} (worker {self.name}) failed: {kind}: {message}\n"
+                f"--- in the worker:\n{trace}"
+            )
+        return payload
+
+    def close(self) -> None:
+        if self.process.is_alive():
+            try:
+                self.send("close")
+                if self.conn.poll(CLOSE_TIMEOUT):
+                    self.conn.recv()
+            except (EOFError, OSError):
+                pass
+            self.process.join(CLOSE_TIMEOUT)
+        if self.process.is_alive():
+            self.process.terminate()
+            self.process.join()
+        self.conn.close()
+
+
+class _Local:
+    """A shard in this process (``workers=0``), behind the same send/receive interface."""
+
+    def __init__(self, shard: _Shard) -> None:
+        self.shard = shard
+        self._result: Any = None
+
+    def send(self, command: str, *data: Any) -> None:
+        try:
+            self._result = ("ok", getattr(self.shard, command)(*data))
+        except Exception as exc:  # noqa: BLE001 - raised by receive, as a worker's would be
+            self._result = ("error", exc)
+
+    def receive(self) -> Any:
+        status, payload = self._result
+        self._result = None
+        if status == "error":
+            raise VectorEnvError(
+                f"environment {self.shard.current} failed: {type(payload).__name__}: {payload}"
+            ) from payload
+        return payload
+
+    def close(self) -> None:
+        self.shard.close()
+
+
+class HapticVectorEnv(VectorEnv):
+    """N hapticsim environments of one id, stepped in `workers` processes (shards).
+
+    Made by ``gym.make_vec(env_id, num_envs=N, **kwargs)`` (the ids register this class as their
+    vector entry point) or directly. Observations, rewards, flags and infos are batched as by
+    Gymnasium's ``SyncVectorEnv`` (infos: a dict of arrays with ``_key`` masks; ``truth``,
+    ``estimate`` and ``solid`` as object arrays).
+
+    Args:
+        env_id: a hapticsim environment id, e.g. ``"hapticsim/HapticExplore-v0"``.
+        num_envs: environments, >= 1.
+        workers: worker processes, 0 to step all environments in this process; default one per
+            usable CPU core (at most `num_envs`). The shards are contiguous blocks of
+            environments, of sizes that differ by at most one (the first ones larger).
+        autoreset_mode: ``"next_step"`` (default), ``"same_step"`` or ``"disabled"``
+            (:class:`gymnasium.vector.AutoresetMode`).
+        copy: return copies of the batched observation (as ``SyncVectorEnv``; default True).
+        context: how worker processes start (``"fork"``, ``"spawn"``, ``"forkserver"``); default
+            the platform's (as Gymnasium's ``AsyncVectorEnv``). With ``"spawn"`` a script that
+            makes the vector environment needs an ``if __name__ == "__main__":`` guard.
+        **kwargs: the environments' settings (``backend``, ``objects``, ``touch_budget``, ...).
+    """
+
+    def __init__(
+        self,
+        env_id: str,
+        num_envs: int,
+        workers: int | None = None,
+        autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+        copy: bool = True,
+        context: str | None = None,
+        **kwargs: Any,
+    ) -> None:
+        num_envs = positive_int(num_envs, "num_envs")
+        if workers is None:
+            workers = default_workers(num_envs)
+        if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 0:
+            raise InvalidInputError(f"`workers` must be None or an int >= 0, got {workers!r}")
+        mode = _autoreset_mode(autoreset_mode)
+        if context is not None and context not in multiprocessing.get_all_start_methods():
+            raise InvalidInputError(
+                f"`context` must be None or one of {multiprocessing.get_all_start_methods()}, "
+                f"got {context!r}"
+            )
+        kwargs.pop("max_episode_steps", None)  # make_vec passes the spec's (None here)
+        self.env_id = str(env_id)
+        self.num_envs = int(num_envs)
+        self.workers = min(int(workers), self.num_envs)
+        self.copy = bool(copy)
+        self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array"]}
+        self.render_mode = kwargs.get("render_mode")
+        # One environment here gives the spaces (and fails early on bad settings, in this process).
+        probe = gym.make(self.env_id, **kwargs)
+        self.single_observation_space = probe.observation_space
+        self.single_action_space = probe.action_space
+        self.metadata["render_fps"] = probe.metadata.get("render_fps")
+        probe.close()
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+
+        count = max(self.workers, 1)
+        sizes = [len(b) for b in np.array_split(np.arange(self.num_envs), count)]
+        self._bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        self._shards: list[Any] = []
+        self._constant: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
+        self.closed = False
+        try:
+            if self.workers == 0:
+                self._shards = [_Local(_Shard(self.env_id, kwargs, self.num_envs, mode))]
+            else:
+                start = multiprocessing.get_context(context)
+                for w, size in enumerate(sizes):
+                    first = int(self._bounds[w])
+                    self._shards.append(_Remote(start, self.env_id, kwargs, size, mode, first,
+                                                f"{w}"))  # fmt: skip
+                for shard in self._shards:
+                    shard.receive()  # its environments are made
+        except BaseException:
+            self.close_extras()
+            raise
+        self._observations = create_empty_array(
+            self.single_observation_space, self.num_envs, fn=np.zeros
+        )
+        self._env_obs: list[Any] = [None] * self.num_envs
+
+    # ------------------------------------------------------------------ helpers
+    def _ask(self, command: str, per_shard: list[tuple]) -> list[Any]:
+        """Send a command to every shard (all at once), then gather their answers in order."""
+        if self.closed:
+            raise InvalidInputError("the vector environment is closed")
+        error = None
+        sent = []
+        for shard, data in zip(self._shards, per_shard, strict=True):
+            try:
+                shard.send(command, *data)
+                sent.append(shard)
+            except VectorEnvError as exc:
+                error = error or exc
+        out: list[Any] = []
+        for shard in sent:
+            try:
+                out.extend(shard.receive())
+            except VectorEnvError as exc:  # collect the others' answers first
+                error = error or exc
+        if error is not None:
+            raise error
+        return out
+
+    def _split(self, items: Any) -> list[Any]:
+        return [items[a:b] for a, b in zip(self._bounds[:-1], self._bounds[1:], strict=True)]
+
+    def _unpack(self, i: int, info: dict[str, Any]) -> dict[str, Any]:
+        for key in EPISODE_CONSTANT_INFO:
+            if key in info:
+                if isinstance(info[key], str) and info[key] == _SAME:
+                    info[key] = self._constant[i][key]
+                else:
+                    self._constant[i][key] = info[key]
+        return info
+
+    def _batch(self, obs: list[Any]) -> Any:
+        self._observations = concatenate(self.single_observation_space, obs, self._observations)
+        return deepcopy(self._observations) if self.copy else self._observations
+
+    # ------------------------------------------------------------------ gymnasium API
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[Any, dict[str, Any]]:
+        """Reset all environments (or those of ``options["reset_mask"]``); an int `seed` seeds
+        environment i with ``seed + i``, a list one seed per environment."""
+        if seed is None:
+            seeds: list[int | None] = [None] * self.num_envs
+        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise InvalidInputError(
+                    f"`seed` must be None, an int or {self.num_envs} seeds, got {len(seeds)}"
+                )
+        mask = np.ones(self.num_envs, bool)
+        if options is not None and "reset_mask" in options:
+            mask = np.asarray(options["reset_mask"])
+            if mask.shape != (self.num_envs,) or mask.dtype != np.bool_ or not mask.any():
+                raise InvalidInputError(
+                    f"`options['reset_mask']` must be ({self.num_envs},) bool with a True, got "
+                    f"{mask.shape} {mask.dtype}"
+                )
+        requests = [(s, options, m) for s, m in zip(
+            self._split(seeds), self._split(mask.tolist()), strict=True)]  # fmt: skip
+        answers = self._ask("reset", requests)
+        infos: dict[str, Any] = {}
+        obs = []
+        for i, answer in enumerate(answers):
+            if answer is None:  # not reset: keep its last observation
+                obs.append(self._env_obs[i])
+                continue
+            o, info = answer
+            obs.append(o)
+            infos = self._add_info(infos, self._unpack(i, info), i)
+        self._env_obs = obs
+        return self._batch(obs), infos
+
+    def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """Step every environment with its action (a batch of the action space)."""
+        actions = list(iterate(self.action_space, actions))
+        if len(actions) != self.num_envs:
+            raise InvalidInputError(f"expected {self.num_envs} actions, got {len(actions)}")
+        answers = self._ask("step", [(a,) for a in self._split(actions)])
+        rewards = np.zeros(self.num_envs)
+        terminations = np.zeros(self.num_envs, bool)
+        truncations = np.zeros(self.num_envs, bool)
+        infos: dict[str, Any] = {}
+        obs = []
+        for i, (o, r, te, tr, extra, info) in enumerate(answers):
+            obs.append(o)
+            rewards[i], terminations[i], truncations[i] = r, te, tr
+            if extra:
+                extra["final_info"] = self._unpack(i, extra["final_info"])
+                infos = self._add_info(infos, extra, i)
+            infos = self._add_info(infos, self._unpack(i, info), i)
+        self._env_obs = obs
+        return self._batch(obs), rewards, terminations, truncations, infos
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        """Call a method (or read an attribute) of every environment; one result each."""
+        return tuple(self._ask("call", [(name, args, kwargs)] * len(self._shards)))
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        """An attribute of every environment."""
+        return self.call(name)
+
+    def set_attr(self, name: str, values: list[Any] | tuple[Any, ...] | Any) -> None:
+        """Set an attribute of every environment (one value each, or the same for all)."""
+        if not isinstance(values, (list, tuple)):
+            values = [values] * self.num_envs
+        if len(values) != self.num_envs:
+            raise InvalidInputError(
+                f"`values` must have {self.num_envs} entries, got {len(values)}"
+            )
+        self._ask("set_attr", [(name, v) for v in self._split(list(values))])
+
+    def render(self) -> tuple[Any, ...] | None:
+        """Every environment's picture (``render_mode="rgb_array"``)."""
+        return self.call("render")
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Close the environments and stop the workers."""
+        for shard in self._shards:
+            shard.close()
+        self._shards = []
