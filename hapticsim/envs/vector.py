@@ -35,7 +35,7 @@ from gymnasium.vector.utils import batch_space, concatenate, create_empty_array,
 
 from hapticsim._validate import positive_int
 from hapticsim.errors import HapticsimError, InvalidInputError
-from hapticsim.parallel.base import limit_threads
+from hapticsim.parallel.base import RemoteTraceback, limit_threads
 
 #: Info keys whose value stays the same object for a whole episode: a worker sends them once per
 #: episode and the vector environment puts its copy back (a mesh truth is megabytes).
@@ -78,15 +78,20 @@ class _Shard:
     def __init__(self, env_id: str, kwargs: dict[str, Any], size: int, mode: AutoresetMode,
                  first: int = 0) -> None:  # fmt: skip
         # (importing this module imported hapticsim, which registered the ids)
+        self.env_id, self.kwargs, self.size = env_id, kwargs, size
         self.first = first  # index of the shard's first environment in the batch
-        self.current = first  # the environment being stepped (named in errors)
-        self.envs = []
-        for j in range(size):
-            self.current = first + j
-            self.envs.append(gym.make(env_id, **kwargs))
+        self.current = first  # the environment being made or stepped (named in errors)
+        self.envs: list[gym.Env] = []
         self.mode = mode
         self.autoreset = [False] * size
         self._sent: list[dict[str, Any]] = [{} for _ in range(size)]
+
+    def make(self) -> list[None]:
+        """Make the shard's environments (``gym.make``, as Gymnasium's SyncVectorEnv does)."""
+        for j in range(self.size):
+            self.current = self.first + j
+            self.envs.append(gym.make(self.env_id, **self.kwargs))
+        return []
 
     def _pack(self, j: int, info: dict[str, Any]) -> dict[str, Any]:
         """`info` with the episode-constant values already sent replaced by a marker."""
@@ -147,9 +152,21 @@ class _Shard:
             env.set_wrapper_attr(name, value)
         return [None] * len(self.envs)
 
+    def spaces(self) -> tuple[Any, Any, Any]:
+        """The first environment's observation and action spaces and frame rate."""
+        env = self.envs[0]
+        return env.observation_space, env.action_space, env.metadata.get("render_fps")
+
     def close(self) -> None:
         for env in self.envs:
             env.close()
+
+
+def _failure(index: int, exc: BaseException) -> tuple[int, bool, str, str, str]:
+    """What a worker reports of an exception: the environment, whether it is bad input (raised
+    again as :class:`InvalidInputError` in the parent), its type, message and traceback."""
+    invalid = isinstance(exc, InvalidInputError)
+    return index, invalid, type(exc).__name__, str(exc), traceback.format_exc()
 
 
 def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mode: str,
@@ -158,13 +175,7 @@ def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mod
     # One BLAS/OpenMP thread per worker, as in hapticsim's other process pools: the workers
     # already fill the cores (on 2 cores and 8 environments no difference was measurable).
     limit_threads()
-    try:
-        shard = _Shard(env_id, kwargs, size, AutoresetMode(mode), first)
-    except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
-        conn.send(("error", (first, type(exc).__name__, str(exc), traceback.format_exc())))
-        conn.close()
-        return
-    conn.send(("ok", None))
+    shard = _Shard(env_id, kwargs, size, AutoresetMode(mode), first)
     while True:
         try:
             command, data = conn.recv()
@@ -177,8 +188,7 @@ def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mod
                 break
             conn.send(("ok", getattr(shard, command)(*data)))
         except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
-            trace = traceback.format_exc()
-            conn.send(("error", (shard.current, type(exc).__name__, str(exc), trace)))
+            conn.send(("error", _failure(shard.current, exc)))
     conn.close()
 
 
@@ -211,17 +221,20 @@ class _Remote:
             code = self.process.exitcode
             raise VectorEnvError(f"worker {self.name} died (exit code {code})") from exc
         if status == "error":
-            index, kind, message, trace = payload
+            index, invalid, kind, message, trace = payload
+            if invalid:  # bad input: the error a single environment gives
+                raise InvalidInputError(f"environment {index}: {message}") from RemoteTraceback(
+                    trace
+                )
             raise VectorEnvError(
-                f"environment {index} (worker {self.name}) failed: {kind}: {message}\n"
-                f"--- in the worker:\n{trace}"
-            )
+                f"environment {index} (worker {self.name}) failed: {kind}: {message}"
+            ) from RemoteTraceback(trace)
         return payload
 
     def close(self) -> None:
         if self.process.is_alive():
             try:
-                self.send("close")
+                self.conn.send(("close", ()))
                 if self.conn.poll(CLOSE_TIMEOUT):
                     self.conn.recv()
             except (EOFError, OSError):
@@ -250,8 +263,11 @@ class _Local:
         status, payload = self._result
         self._result = None
         if status == "error":
+            index = self.shard.current
+            if isinstance(payload, InvalidInputError):
+                raise InvalidInputError(f"environment {index}: {payload}") from payload
             raise VectorEnvError(
-                f"environment {self.shard.current} failed: {type(payload).__name__}: {payload}"
+                f"environment {index} failed: {type(payload).__name__}: {payload}"
             ) from payload
         return payload
 
@@ -292,6 +308,8 @@ class HapticVectorEnv(VectorEnv):
         context: str | None = None,
         **kwargs: Any,
     ) -> None:
+        self._shards: list[Any] = []  # (before any check: Gymnasium's __del__ closes us)
+        self.closed = False
         num_envs = positive_int(num_envs, "num_envs")
         if workers is None:
             workers = default_workers(num_envs)
@@ -310,21 +328,10 @@ class HapticVectorEnv(VectorEnv):
         self.copy = bool(copy)
         self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array"]}
         self.render_mode = kwargs.get("render_mode")
-        # One environment here gives the spaces (and fails early on bad settings, in this process).
-        probe = gym.make(self.env_id, **kwargs)
-        self.single_observation_space = probe.observation_space
-        self.single_action_space = probe.action_space
-        self.metadata["render_fps"] = probe.metadata.get("render_fps")
-        probe.close()
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-
         count = max(self.workers, 1)
         sizes = [len(b) for b in np.array_split(np.arange(self.num_envs), count)]
         self._bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-        self._shards: list[Any] = []
         self._constant: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
-        self.closed = False
         try:
             if self.workers == 0:
                 self._shards = [_Local(_Shard(self.env_id, kwargs, self.num_envs, mode))]
@@ -334,11 +341,17 @@ class HapticVectorEnv(VectorEnv):
                     first = int(self._bounds[w])
                     self._shards.append(_Remote(start, self.env_id, kwargs, size, mode, first,
                                                 f"{w}"))  # fmt: skip
-                for shard in self._shards:
-                    shard.receive()  # its environments are made
+            self._ask("make", [()] * len(self._shards))
+            self._shards[0].send("spaces")
+            obs_space, action_space, fps = self._shards[0].receive()
         except BaseException:
             self.close_extras()
             raise
+        self.single_observation_space = obs_space
+        self.single_action_space = action_space
+        self.metadata["render_fps"] = fps
+        self.observation_space = batch_space(obs_space, self.num_envs)
+        self.action_space = batch_space(action_space, self.num_envs)
         self._observations = create_empty_array(
             self.single_observation_space, self.num_envs, fn=np.zeros
         )

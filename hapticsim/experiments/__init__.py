@@ -9,4 +9,6 @@
   (:mod:`~hapticsim.experiments.report`); the ``hapticsim reproduce`` command.
 - :mod:`~hapticsim.experiments.trial`: one synthesise-fit-score trial;
   the sweeps run on :mod:`hapticsim.parallel` (keyed seeds, local processes or Dask).
+- :mod:`~hapticsim.experiments.rllib`: training exploration policies with Ray RLlib (PPO,
+  SAC) on a Ray cluster (the ``ray`` extra).
 """

@@ -158,7 +158,7 @@ def test_errors_name_the_environment() -> None:
     envs.reset(seed=0)
     actions = np.zeros((3, 5), np.float32)
     actions[2, 0] = np.nan
-    with pytest.raises(VectorEnvError, match=r"environment 2 .*action"):
+    with pytest.raises(InvalidInputError, match=r"environment 2: .*action"):  # as alone
         envs.step(actions)
     envs.close()
     envs.close()  # twice is fine
@@ -183,7 +183,8 @@ def test_a_dead_worker_is_reported() -> None:
         ({"num_envs": 2, "workers": -1}, "workers"),
         ({"num_envs": 2, "autoreset_mode": "sometimes"}, "autoreset_mode"),
         ({"num_envs": 2, "context": "teleport"}, "context"),
-        ({"num_envs": 2, "touch_budget": 0}, "touch_budget"),
+        ({"num_envs": 2, "touch_budget": 0}, "environment 0: .*touch_budget"),
+        ({"num_envs": 2, "workers": 0, "touch_budget": 0}, "environment 0: .*touch_budget"),
     ],
 )
 def test_bad_settings_raise_clear_errors(kwargs: dict, match: str) -> None:
