@@ -6,6 +6,7 @@ import multiprocessing
 import os
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import gymnasium as gym
@@ -278,7 +279,34 @@ def shard_estimate(step_seconds: Any, reset_seconds: Any, num_envs: int, shards:
 
 
 #: Vector environments :func:`benchmark_vector_env` can time.
-VECTOR_VARIANTS: tuple[str, ...] = ("native", "async")
+VECTOR_VARIANTS: tuple[str, ...] = ("native", "async", "threads")
+
+
+def _thread_rate(backend: str, num_envs: int, steps: int, seed: int,
+                 env_kwargs: dict[str, Any]) -> float:  # fmt: skip
+    """Steps per second of N environments in this process, each vector step's N environment
+    steps run by a pool of one thread per core (the compiled kernels release the GIL)."""
+    envs = [gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs) for _ in range(num_envs)]
+    for k, env in enumerate(envs):
+        env.action_space.seed(seed + k)
+        env.reset(seed=seed + k)
+
+    def one(env: gym.Env) -> None:
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            env.reset()
+
+    with ThreadPoolExecutor(default_workers(num_envs)) as pool:
+        for _ in range(WARMUP_STEPS):
+            list(pool.map(one, envs))
+        rounds = max(1, steps // num_envs)
+        start = time.perf_counter()
+        for _ in range(rounds):
+            list(pool.map(one, envs))
+        rate = rounds * num_envs / (time.perf_counter() - start)
+    for env in envs:
+        env.close()
+    return rate
 
 
 def _vector_rate(
@@ -286,6 +314,8 @@ def _vector_rate(
     env_kwargs: dict[str, Any],
 ) -> float:  # fmt: skip
     """Environment steps per second of one vector environment (after its warm-up steps)."""
+    if variant == "threads":
+        return _thread_rate(backend, num_envs, steps, seed, env_kwargs)
     if variant.startswith("native"):
         if ":" in variant:  # "native:W"
             workers = int(variant.split(":")[1])
@@ -316,6 +346,7 @@ def benchmark_vector_env(
     workers: int | None = None,
     repeats: int = 2,
     free_running: bool = True,
+    progress: bool = True,
     **env_kwargs: Any,
 ) -> dict[str, Any]:
     """Steps per second of vector environments against one environment, in the same run.
@@ -326,7 +357,9 @@ def benchmark_vector_env(
     load; the medians are reported. Variants: ``"native"``, hapticsim's vector environment
     (:class:`~hapticsim.envs.vector.HapticVectorEnv`, `workers` processes of N / workers
     environments each); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
-    environment). Optionally also two independent single environments in two processes at once
+    environment); ``"threads"``, the N environments in this process, stepped by a pool of one
+    thread per core (no vector environment of ours: how far the GIL lets threads go). Optionally
+    also two independent single environments in two processes at once
     (*free running*: what the cores give when nobody waits for anybody), and from the single
     environment's step times the *lockstep bound* (:func:`lockstep_bound`): a vector environment
     whose every environment has a core of its own waits for its slowest environment at every
@@ -342,6 +375,7 @@ def benchmark_vector_env(
         workers: worker processes of ``"native"`` (None: one per core).
         repeats: rounds of single + variants, >= 1.
         free_running: also time two free-running processes.
+        progress: a line per round on stderr.
         **env_kwargs: further environment settings.
 
     Returns:
@@ -377,6 +411,10 @@ def benchmark_vector_env(
             rates[variant].append(
                 _vector_rate(variant, backend, num_envs, steps, seed, workers, env_kwargs)
             )
+        if progress:
+            line = ", ".join(f"{v} {r[-1]:.1f}" for v, r in rates.items())
+            print(f"{backend} round {len(singles)}/{repeats}: single {singles[-1]:.1f}, {line} "
+                  f"steps/s (load {os.getloadavg()[0]:.2f})", file=sys.stderr, flush=True)  # fmt: skip
     single_rate = float(np.median(singles))
     out: dict[str, Any] = {
         "backend": backend,
