@@ -413,8 +413,9 @@ def benchmark_vector_env(
             )
         if progress:
             line = ", ".join(f"{v} {r[-1]:.1f}" for v, r in rates.items())
+            load = os.getloadavg()[0]
             print(f"{backend} round {len(singles)}/{repeats}: single {singles[-1]:.1f}, {line} "
-                  f"steps/s (load {os.getloadavg()[0]:.2f})", file=sys.stderr, flush=True)  # fmt: skip
+                  f"steps/s (load {load:.2f})", file=sys.stderr, flush=True)  # fmt: skip
     single_rate = float(np.median(singles))
     out: dict[str, Any] = {
         "backend": backend,
