@@ -200,3 +200,28 @@ def test_compact_id_vectorises_natively() -> None:
     obs, reward, *_ = envs.step(envs.action_space.sample())
     assert obs.shape == (2, 85) and reward.shape == (2,)
     envs.close()
+
+
+def test_each_environment_gives_what_it_gives_alone() -> None:
+    """Environment 1 of a native batch against the same environment made and stepped alone
+    (seed 3 + 1, the same actions, a reset without seed after its episode ends)."""
+    rng = np.random.default_rng(2)
+    actions = rng.uniform(-1, 1, (7, 3, 5)).astype(np.float32)
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 3, workers=2, **KWARGS)
+    batch = [envs.reset(seed=3)[0]["points"][1]]
+    batch += [envs.step(a)[0]["points"][1] for a in actions]
+    envs.close()
+    env = gym.make(HAPTIC_EXPLORE_ID, **KWARGS)
+    alone = [env.reset(seed=4)[0]["points"]]
+    done = False
+    for a in actions:
+        if done:  # NEXT_STEP autoreset: this step's action is not used
+            obs, _ = env.reset()
+            done = False
+        else:
+            obs, _, terminated, truncated, _ = env.step(a[1])
+            done = terminated or truncated
+        alone.append(obs["points"])
+    env.close()
+    for x, y in zip(batch, alone, strict=True):
+        np.testing.assert_array_equal(x, y)
