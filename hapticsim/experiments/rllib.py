@@ -50,17 +50,22 @@ def make_env(config: dict[str, Any]) -> gym.Env | gym.vector.VectorEnv:
 
     Args:
         config: the environment's settings, with ``env_id`` (default the compact id) and, when
-            RLlib asks for a vector environment, ``num_envs`` (and optionally ``workers``).
+            RLlib asks for a vector environment, ``num_envs`` (and optionally ``workers`` and
+            ``context``, default ``"spawn"``: a Ray actor has threads, which a fork would copy
+            in whatever state they are).
     """
     from hapticsim.envs.vector import HapticVectorEnv
 
-    settings = {k: v for k, v in dict(config).items()}
+    settings = dict(config)
     env_id = settings.pop("env_id", HAPTIC_EXPLORE_COMPACT_ID)
     num_envs = settings.pop("num_envs", None)
     workers = settings.pop("workers", None)
+    # a Ray actor has threads of its own (gRPC): its workers start fresh, not by fork
+    context = settings.pop("context", "spawn")
     if num_envs is None:
         return gym.make(env_id, **settings)
-    return HapticVectorEnv(env_id, num_envs=int(num_envs), workers=workers, **settings)
+    return HapticVectorEnv(env_id, num_envs=int(num_envs), workers=workers, context=context,
+                           **settings)  # fmt: skip
 
 
 def build_config(
@@ -168,7 +173,8 @@ def validate(
         seed: first seed.
     """
     settings = {**DEFAULT_ENV_CONFIG, **(env_config or {})}
-    settings.pop("workers", None)
+    for key in ("workers", "context", "num_envs"):  # one environment, in this process
+        settings.pop(key, None)
     env = make_env(settings)
     env.action_space.seed(seed)
     final = []

@@ -72,18 +72,22 @@ def ray_cluster(tmp_path_factory: pytest.TempPathFactory):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("algo", ["ppo", "sac"])
+@pytest.mark.parametrize(
+    ("algo", "vectorize"), [("ppo", "sync"), ("sac", "sync"), ("ppo", "native")]
+)
 def test_rllib_trains_with_two_env_runners_on_a_cluster(
-    algo: str, ray_cluster: str, tmp_path: Path
+    algo: str, vectorize: str, ray_cluster: str, tmp_path: Path
 ) -> None:
     training = (
         {"train_batch_size_per_learner": 64, "minibatch_size": 32, "num_epochs": 1}
         if algo == "ppo" else
         {"train_batch_size_per_learner": 32, "num_steps_sampled_before_learning_starts": 32}
     )  # fmt: skip
+    native = vectorize == "native"  # 2 environments per runner in 1 worker process each
     config = build_config(
-        algo, env_config={**SMALL, "objects": "paper"}, num_env_runners=2, hidden=(32,), seed=0,
-        **training,
+        algo, env_config={**SMALL, "objects": "paper", **({"workers": 1} if native else {})},
+        num_env_runners=2, num_envs_per_env_runner=2 if native else 1, vectorize=vectorize,
+        hidden=(32,), seed=0, **training,
     ).env_runners(rollout_fragment_length=16)
     summary = train(config, 96, tmp_path, eval_every=10_000, val_episodes=2, address=ray_cluster,
                     progress=False)  # fmt: skip
