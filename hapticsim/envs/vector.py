@@ -283,6 +283,10 @@ class HapticVectorEnv(VectorEnv):
     Gymnasium's ``SyncVectorEnv`` (infos: a dict of arrays with ``_key`` masks; ``truth``,
     ``estimate`` and ``solid`` as object arrays).
 
+    Errors: bad input raises :class:`InvalidInputError` naming the environment, other failures
+    :class:`VectorEnvError`. The shards step at once, so in a step that fails, the environments
+    of the other shards (and those before the failed one in its shard) have stepped.
+
     Args:
         env_id: a hapticsim environment id, e.g. ``"hapticsim/HapticExplore-v0"``.
         num_envs: environments, >= 1.
@@ -368,13 +372,13 @@ class HapticVectorEnv(VectorEnv):
             try:
                 shard.send(command, *data)
                 sent.append(shard)
-            except VectorEnvError as exc:
+            except HapticsimError as exc:
                 error = error or exc
         out: list[Any] = []
         for shard in sent:
             try:
                 out.extend(shard.receive())
-            except VectorEnvError as exc:  # collect the others' answers first
+            except HapticsimError as exc:  # read the others' answers too: the pipes stay in step
                 error = error or exc
         if error is not None:
             raise error

@@ -166,6 +166,21 @@ def test_errors_name_the_environment() -> None:
         envs.step(np.zeros((3, 5), np.float32))
 
 
+def test_an_error_in_the_first_worker_leaves_the_others_in_step() -> None:
+    """After environment 0's bad action, the next step's answers are that step's: the second
+    worker's answer to the failed step was read, not left in its pipe. (The environments of
+    other shards did step in the failed call; the failed one did not.)"""
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    bad = np.zeros((2, 5), np.float32)
+    bad[0, 0] = np.nan
+    with pytest.raises(InvalidInputError, match="environment 0"):
+        envs.step(bad)
+    obs = envs.step(np.full((2, 5), 0.3, np.float32))[0]
+    assert obs["touches"][:, 0].tolist() == [1.0, 2.0]
+    envs.close()
+
+
 def test_a_dead_worker_is_reported() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
     envs.reset(seed=0)
