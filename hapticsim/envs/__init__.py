@@ -13,7 +13,8 @@ Modules: ``haptic_explore_v0`` (the environment), ``observation`` (its fit codec
 ``support`` (which contacts the object's stand makes unreachable), ``estimator`` (the fit
 schedule), ``policies`` (baseline exploration policies), ``rendering`` (pictures),
 ``vector`` (the native vector environment: N environments in one worker process per core,
-``gym.make_vec``'s default for hapticsim's ids), ``registration``. Policy comparisons and speed benchmarks sit on top, in
+``gym.make_vec``'s default for hapticsim's ids), ``registration``. Policy comparisons and speed
+benchmarks sit on top, in
 :mod:`hapticsim.benchmarks`; the object distributions an episode draws from are data
 (:mod:`hapticsim.data.distributions`).
 Importing this package imports neither gymnasium nor MuJoCo.
