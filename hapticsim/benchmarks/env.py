@@ -309,16 +309,28 @@ def _thread_rate(backend: str, num_envs: int, steps: int, seed: int,
     return rate
 
 
+def _parse_variant(variant: str) -> tuple[str, int | None]:
+    """The kind of a variant and the workers it names (``"native:W"``), or an error."""
+    kind, _, count = variant.partition(":")
+    if kind in VECTOR_VARIANTS and not count:
+        return kind, None
+    if kind == "native" and count.isdigit():
+        return kind, int(count)
+    raise InvalidInputError(
+        f"`variants` must be among {VECTOR_VARIANTS} or 'native:W', got {variant!r}"
+    )
+
+
 def _vector_rate(
     variant: str, backend: str, num_envs: int, steps: int, seed: int, workers: int | None,
     env_kwargs: dict[str, Any],
 ) -> float:  # fmt: skip
     """Environment steps per second of one vector environment (after its warm-up steps)."""
-    if variant == "threads":
+    kind, own_workers = _parse_variant(variant)
+    if kind == "threads":
         return _thread_rate(backend, num_envs, steps, seed, env_kwargs)
-    if variant.startswith("native"):
-        if ":" in variant:  # "native:W"
-            workers = int(variant.split(":")[1])
+    if kind == "native":
+        workers = workers if own_workers is None else own_workers
         vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, backend=backend,
                            workers=workers, **env_kwargs)  # fmt: skip
     else:
@@ -391,12 +403,8 @@ def benchmark_vector_env(
             f"need num_envs >= 1, steps >= num_envs and repeats >= 1, got {num_envs}, {steps}, "
             f"{repeats}"
         )
-    unknown = {v for v in variants if v.split(":")[0] not in VECTOR_VARIANTS
-               or v.startswith("async:") or (":" in v and not v.split(":")[1].isdigit())}
-    if unknown:
-        raise InvalidInputError(
-            f"`variants` must be among {VECTOR_VARIANTS} or 'native:W', got {sorted(unknown)}"
-        )
+    for variant in variants:  # every name checked before anything runs
+        _parse_variant(variant)
     register_envs()
     singles: list[float] = []
     rates: dict[str, list[float]] = {v: [] for v in variants}
