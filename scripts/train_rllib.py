@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 
+from hapticsim.errors import HapticsimError
 from hapticsim.experiments.rllib import ALGOS, VECTORIZE, build_config, train
 
 
@@ -36,13 +38,20 @@ def main() -> None:
     p.add_argument("--max-hours", type=float, default=None)
     p.add_argument("--out", required=True)
     args = p.parse_args()
+    try:
+        summary = _run(args)
+    except HapticsimError as exc:
+        sys.exit(f"train_rllib.py: {exc}")
+    print(json.dumps(summary, default=str))
+
+
+def _run(args: argparse.Namespace) -> dict:
     config = build_config(
         args.algo, num_env_runners=args.runners, num_envs_per_env_runner=args.envs_per_runner,
         vectorize=args.vectorize, seed=args.seed,
     )  # fmt: skip
-    summary = train(config, args.timesteps, args.out, args.eval_every, args.val_episodes,
-                    args.address, args.max_hours)  # fmt: skip
-    print(json.dumps(summary, default=str))
+    return train(config, args.timesteps, args.out, args.eval_every, args.val_episodes,
+                 args.address, args.max_hours)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import sys
 import time
 from collections.abc import Callable
@@ -30,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 
 from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ExecutionError, InvalidInputError
 
 #: Algorithms :func:`build_config` knows.
 ALGOS: tuple[str, ...] = ("ppo", "sac")
@@ -199,6 +200,51 @@ def _sampled(result: dict[str, Any]) -> int:
     return int(result.get("num_env_steps_sampled_lifetime", 0))
 
 
+def _token_available(environ: Any = None, home: Path | None = None) -> bool:
+    """Whether this process has a Ray authentication token (where Ray looks for one)."""
+    environ = os.environ if environ is None else environ
+    if environ.get("RAY_AUTH_TOKEN"):
+        return True
+    path = environ.get("RAY_AUTH_TOKEN_PATH")
+    token = Path(path) if path else (Path.home() if home is None else home) / ".ray" / "auth_token"
+    return token.is_file()
+
+
+def join_cluster(address: str | None) -> None:
+    """Start Ray in this process (`address` None) or join the cluster at `address`.
+
+    Ray (2.5x) turns token authentication on for ``ray start`` and ``ray.init(address="auto")``
+    whenever a token is at hand (``~/.ray/auth_token``, ``RAY_AUTH_TOKEN_PATH``,
+    ``RAY_AUTH_TOKEN``), but not for a driver given an explicit address, which then cannot join
+    a cluster started on the same machine. The same rule is applied here to every address:
+    with ``RAY_AUTH_MODE`` unset and a token at hand, this process authenticates with it (a
+    cluster without authentication accepts such a driver too). ``RAY_AUTH_MODE=disabled``
+    opts out.
+
+    Raises:
+        ExecutionError: the cluster cannot be joined; the message says what to check.
+    """
+    import ray
+
+    if address is not None and "RAY_AUTH_MODE" not in os.environ and _token_available():
+        os.environ["RAY_AUTH_MODE"] = "token"
+        try:  # Ray reads its configuration once; its own CLI refreshes it the same way
+            from ray._raylet import Config
+
+            Config.initialize("")
+        except (ImportError, AttributeError):  # pragma: no cover - other Ray versions
+            pass
+    try:
+        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+    except ConnectionError as exc:
+        raise ExecutionError(
+            f"could not join the Ray cluster at {address!r} ({exc}). Check that it runs "
+            "(`ray status --address ADDRESS`); if it uses token authentication, give this "
+            "process its token (RAY_AUTH_TOKEN_PATH=FILE, from `ray get-auth-token` on the "
+            "head) and set RAY_AUTH_MODE=token"
+        ) from exc
+
+
 def train(
     config: Any,
     timesteps: int,
@@ -222,7 +268,7 @@ def train(
         eval_every: environment steps between validations.
         val_episodes: validation episodes.
         address: Ray cluster to join (``"auto"``: the one ``ray start`` began here; None: start
-            one in this process).
+            one in this process); see :func:`join_cluster` for token authentication.
         max_hours: stop after this much wall time.
         progress: a line per iteration on stderr.
 
@@ -234,7 +280,7 @@ def train(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     if not ray.is_initialized():
-        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+        join_cluster(address)
     env_config = dict(config.env_config)
     random_val = validate(None, env_config, val_episodes)
     algo = config.build_algo()

@@ -3,6 +3,8 @@ few PPO and SAC iterations with 2 EnvRunners on a local Ray cluster started by `
 
 from __future__ import annotations
 
+import os
+import secrets
 import shutil
 import socket
 import subprocess
@@ -14,7 +16,8 @@ import numpy as np
 import pytest
 
 from hapticsim.envs.vector import HapticVectorEnv
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ExecutionError, InvalidInputError
+from hapticsim.experiments import rllib
 from hapticsim.experiments.rllib import build_config, make_env, train, validate
 
 SMALL = {"touch_budget": 3, "chamfer_samples": 10, "fit": {"full_budget": 600, "refine_budget": 60}}
@@ -48,9 +51,43 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+def test_a_token_is_found_where_ray_looks_for_one(tmp_path: Path) -> None:
+    home = tmp_path / "home"
+    assert not rllib._token_available({}, home)
+    assert rllib._token_available({"RAY_AUTH_TOKEN": "abc"}, home)
+    token = tmp_path / "token"
+    assert not rllib._token_available({"RAY_AUTH_TOKEN_PATH": str(token)}, home)
+    token.write_text("abc")
+    assert rllib._token_available({"RAY_AUTH_TOKEN_PATH": str(token)}, home)
+    (home / ".ray").mkdir(parents=True)
+    (home / ".ray" / "auth_token").write_text("abc")
+    assert rllib._token_available({}, home)
+
+
+@pytest.mark.slow  # needs ray, which CI installs for the slow run
+def test_a_cluster_that_cannot_be_joined_raises_a_clear_error(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    ray = pytest.importorskip("ray")
+
+    def refuse(**kwargs: object) -> None:
+        raise ConnectionError("Failed to connect to Ray cluster at 10.0.0.9:6379")
+
+    monkeypatch.setattr(ray, "init", refuse)
+    monkeypatch.setenv("RAY_AUTH_MODE", "disabled")
+    with pytest.raises(ExecutionError, match=r"10\.0\.0\.9:6379.*RAY_AUTH_TOKEN_PATH"):
+        rllib.join_cluster("10.0.0.9:6379")
+
+
 @pytest.fixture(scope="module")
 def ray_cluster(tmp_path_factory: pytest.TempPathFactory):
-    """A local cluster as a user starts one: ``ray start --head`` (2 CPUs), then ``ray stop``."""
+    """A local cluster as a user starts one, ``ray start --head`` (2 CPUs), then ``ray stop``.
+
+    With token authentication (Ray's default when a token is at hand) and a token of its own,
+    so it does not depend on ``~/.ray``. The driver gets only the token's path, as a user on
+    another machine would: joining by address must turn authentication on by itself (CI
+    failed on exactly that while ``~/.ray/auth_token`` existed).
+    """
     pytest.importorskip("ray.rllib")
     pytest.importorskip("torch")
     ray_cli = str(Path(sys.executable).parent / "ray")
@@ -58,17 +95,31 @@ def ray_cluster(tmp_path_factory: pytest.TempPathFactory):
         ray_cli = shutil.which("ray") or pytest.skip("no `ray` command")
     port = _free_port()
     temp = tmp_path_factory.mktemp("ray")
+    token = temp / "auth_token"
+    token.write_text(secrets.token_hex(32))
+    keys = ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN", "RAY_AUTH_TOKEN_PATH")
+    saved = {key: os.environ.get(key) for key in keys}
+    for key in saved:
+        os.environ.pop(key, None)
+    head_env = {**os.environ, "RAY_AUTH_MODE": "token", "RAY_AUTH_TOKEN_PATH": str(token)}
     start = [ray_cli, "start", "--head", "--num-cpus", "2", "--port", str(port),
              "--include-dashboard", "false", "--temp-dir", str(temp),
              "--disable-usage-stats"]  # fmt: skip
-    subprocess.run(start, check=True, capture_output=True, timeout=120)
+    subprocess.run(start, check=True, capture_output=True, timeout=120, env=head_env)
+    os.environ["RAY_AUTH_TOKEN_PATH"] = str(token)
     try:
         yield f"127.0.0.1:{port}"
     finally:
         import ray
 
         ray.shutdown()
-        subprocess.run([ray_cli, "stop", "--force"], capture_output=True, timeout=120)
+        subprocess.run([ray_cli, "stop", "--force"], capture_output=True, timeout=120,
+                       env=head_env)  # fmt: skip
+        for key, value in saved.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
 
 
 @pytest.mark.slow
