@@ -119,6 +119,7 @@ def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
     result = evaluate_policy(
         args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
         touches=args.touches, seed=args.seed, workers=args.workers, progress=not args.quiet,
+        **({} if args.noise is None else {"noise": args.noise}),
     )  # fmt: skip
     _print_json(result)
     return 0
@@ -146,13 +147,17 @@ def add_policies_parser(sub: Any) -> None:
     )
     p.lazy_epilog = _policies_epilog
     p.add_argument("--policy", required=True, help="random, paper, uncertainty, information, "
-                   "learned or learned:PATH")  # fmt: skip
+                   "learned, learned-touch or learned:PATH")  # fmt: skip
     p.add_argument("--backend", choices=BACKENDS, default="analytic")
     p.add_argument("--objects", choices=OBJECT_KINDS, default="random")
     p.add_argument("--episodes", type=_positive_int, default=50, help="episodes (default 50)")
     p.add_argument("--touches", type=_positive_int, default=10, help="touches per episode "
                    "(default 10)")  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0, help="root seed: episode i uses SEED + i")
+    p.add_argument(
+        "--noise", type=float, default=None,
+        help="relative sensor noise sigma_N in [0, 1] (default: the environment's, 0.02)",
+    )  # fmt: skip
     p.add_argument(
         "--workers", type=_positive_int, default=None, help="processes (default: all cores)"
     )

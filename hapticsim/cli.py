@@ -66,6 +66,7 @@ def _explore_epilog() -> str:
         ("information", "the environment's policy touching where a contact is expected to"
                         " reduce the fit's posterior surface variance most"),
         ("learned", "the environment's shipped learned policy (learned:PATH: a weight file)"),
+        ("learned-touch", "the shipped policy that learned from the touch history itself"),
         ("random", "the environment's random touches"),
     ]
     for k, v in rows:

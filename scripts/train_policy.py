@@ -1,8 +1,12 @@
-"""Train an exploration policy on hapticsim/HapticExploreCompact-v0 (analytic) and export it.
+"""Train an exploration policy on hapticsim/HapticExploreCompact-v0 or -Touch-v0 and export it.
 
 Off-policy (SAC, TQC, CrossQ) or on-policy (PPO) learners from stable-baselines3 / sb3-contrib on
-the compact observation of ``HapticExploreCompact-v0``, ``--n-envs`` environments in subprocesses,
-seeded, checkpointed and resumable. Every ``--val-every`` steps the current deterministic actor
+the compact observation of ``HapticExploreCompact-v0`` (``--env compact``, default) or on the
+touch history of ``HapticExploreTouch-v0`` (``--env touch``: contacts, normals and past touches
+as sets, encoded by :class:`hapticsim.experiments.sb3.TouchSetExtractor`), analytic backend,
+``--n-envs`` environments in subprocesses (``--vector subproc``) or in hapticsim's native vector
+environment (``--vector native``: one worker process per core), seeded, checkpointed and
+resumable. Every ``--val-every`` steps the current deterministic actor
 (exported to numpy, exactly what ships) runs on a fixed validation set of objects (environment
 seeds 10,000 + i, never used for training or by ``hapticsim policies evaluate --seed 0``) and the
 mean epsilon after ``--budget`` touches goes into the learning curve (``curve.csv``,
@@ -19,6 +23,12 @@ the ``rl`` extra::
     pip install -e ".[rl]"
     nice -n 10 python scripts/train_policy.py --algo sac --timesteps 300000 --out runs/learned
     python scripts/train_policy.py --resume --out runs/learned     # continue after a stop
+
+The shipped ``learned-touch`` actor (docs/policies/learned_touch/)::
+
+    python scripts/train_policy.py --algo ppo --env touch --vector native --n-envs 16 \
+        --n-steps 128 --n-epochs 5 --batch-size 256 --timesteps 1000000 --val-every 20000 \
+        --checkpoint-every 50000 --max-hours 2.0 --out runs/learned_touch
 """
 
 from __future__ import annotations
@@ -27,6 +37,7 @@ import argparse
 import json
 import os
 import sys
+import textwrap
 import time
 from pathlib import Path
 from typing import Any
@@ -34,6 +45,9 @@ from typing import Any
 import numpy as np
 
 ALGOS: tuple[str, ...] = ("sac", "tqc", "crossq", "ppo")
+#: Observations: the compact one (HapticExploreCompact-v0) or the touch history
+#: (HapticExploreTouch-v0).
+ENVS: tuple[str, ...] = ("compact", "touch")
 #: Environment seeds of the validation set: VAL_SEED + i.
 VAL_SEED: int = 10_000
 #: Base of the training environments' seeds.
@@ -43,6 +57,28 @@ TRAIN_SEED: int = 1_000_000
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--algo", choices=ALGOS, default="sac")
+    p.add_argument(
+        "--env", choices=ENVS, default="compact",
+        help="observation: 'compact' (HapticExploreCompact-v0, 85 numbers with coverage "
+        "features) or 'touch' (HapticExploreTouch-v0: contacts, normals and touches as sets, "
+        "encoded by a permutation-invariant network)",
+    )  # fmt: skip
+    p.add_argument(
+        "--vector", choices=("subproc", "native"), default="subproc",
+        help="SB3's SubprocVecEnv (one process per environment) or hapticsim's native vector "
+        "environment (one worker process per core)",
+    )  # fmt: skip
+    p.add_argument(
+        "--torch-threads", type=int, default=1,
+        help="torch's threads (1: the environments use the other cores; PPO, which alternates "
+        "between stepping and learning, may gain from more)",
+    )  # fmt: skip
+    p.add_argument("--n-steps", type=int, default=1024, help="PPO: steps per env per rollout")
+    p.add_argument("--n-epochs", type=int, default=10, help="PPO: epochs per rollout")
+    p.add_argument(
+        "--set-net", type=int, nargs="+", default=[64, 64],
+        help="--env touch: widths of the per-element network of each set",
+    )  # fmt: skip
     p.add_argument("--timesteps", type=int, default=300_000, help="environment steps in total")
     p.add_argument("--n-envs", type=int, default=2, help="environments (subprocesses)")
     p.add_argument("--seed", type=int, default=0)
@@ -115,13 +151,21 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
     common = {"seed": args.seed, "device": "cpu", "verbose": 0, "gamma": args.gamma}
     arch = list(args.net)
     critic = list(args.critic_net or args.net)
+    extractor: dict[str, Any] = {}
+    if args.env == "touch":
+        from hapticsim.experiments.sb3 import TouchSetExtractor
+
+        extractor = {"features_extractor_class": TouchSetExtractor,
+                     "features_extractor_kwargs": {"hidden": tuple(args.set_net)}}  # fmt: skip
     if args.algo == "ppo":
         from stable_baselines3 import PPO
 
         return PPO(
-            "MlpPolicy", env, learning_rate=args.lr or 3e-4, n_steps=1024, batch_size=128,
-            n_epochs=10, gae_lambda=0.95, ent_coef=0.0,
-            policy_kwargs={"net_arch": {"pi": arch, "vf": critic}, "activation_fn": torch.nn.Tanh},
+            "MlpPolicy", env, learning_rate=args.lr or 3e-4, n_steps=args.n_steps,
+            batch_size=args.batch_size if args.env == "touch" else 128, n_epochs=args.n_epochs,
+            gae_lambda=0.95, ent_coef=0.0,
+            policy_kwargs={"net_arch": {"pi": arch, "vf": critic}, "activation_fn": torch.nn.Tanh,
+                           **extractor},
             **common,
         )  # fmt: skip
     off = {
@@ -134,7 +178,7 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
 
         return SAC(
             "MlpPolicy", env, learning_rate=args.lr or 3e-4, tau=0.005,
-            policy_kwargs={"net_arch": {"pi": arch, "qf": critic}}, **off, **common,
+            policy_kwargs={"net_arch": {"pi": arch, "qf": critic}, **extractor}, **off, **common,
         )  # fmt: skip
     if args.algo == "tqc":
         from sb3_contrib import TQC
@@ -175,15 +219,25 @@ def make_vec_env(args: argparse.Namespace, start_step: int) -> Any:
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import SubprocVecEnv
 
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID
+    seed = TRAIN_SEED + 10_000 * args.seed + start_step
+    if args.vector == "native":
+        from hapticsim.experiments.sb3 import NativeVecEnv
 
+        vec = NativeVecEnv(env_id(args), args.n_envs, **env_kwargs(args))
+        vec.seed(seed)
+        return vec
     # "hapticsim:<id>" makes Gymnasium import hapticsim (which registers the id) in the
     # subprocesses, whatever their start method.
     return sb3_make_vec_env(
-        "hapticsim:" + HAPTIC_EXPLORE_COMPACT_ID, n_envs=args.n_envs,
-        seed=TRAIN_SEED + 10_000 * args.seed + start_step, env_kwargs=env_kwargs(args),
+        "hapticsim:" + env_id(args), n_envs=args.n_envs, seed=seed, env_kwargs=env_kwargs(args),
         vec_env_cls=SubprocVecEnv if args.n_envs > 1 else None,
     )  # fmt: skip
+
+
+def env_id(args: argparse.Namespace) -> str:
+    from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_TOUCH_ID
+
+    return HAPTIC_EXPLORE_TOUCH_ID if args.env == "touch" else HAPTIC_EXPLORE_COMPACT_ID
 
 
 def validate(actor: Any, env: Any, episodes: int) -> dict[str, float]:
@@ -212,7 +266,7 @@ def plot_curve(rows: list[dict[str, Any]], path: Path, title: str) -> None:
     ax.plot(steps, [r["val_median"] for r in rows], "s--", label="validation median", markersize=3)
     ax.set_xlabel("environment steps (touches)")
     ax.set_ylabel("epsilon after the last touch")
-    ax.set_title(title, fontsize=9)
+    ax.set_title("\n".join(textwrap.wrap(title, 80)), fontsize=9)
     ax.set_yscale("log")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
@@ -239,10 +293,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"--algo {args.algo} needs sb3-contrib: pip install -e '.[rl]'", file=sys.stderr)
             return 2
 
-    from hapticsim.envs.haptic_explore_v1 import ENV_ID, HapticExploreV1Env
+    from hapticsim.envs.haptic_explore_touch import HapticExploreTouchEnv
+    from hapticsim.envs.haptic_explore_v1 import HapticExploreV1Env
     from hapticsim.envs.learned import actor_from_sb3
 
-    torch.set_num_threads(1)  # the environments use the other cores
+    torch.set_num_threads(args.torch_threads)  # 1: the environments use the other cores
     run = Run(args.out)
     command = "python scripts/train_policy.py " + " ".join(sys.argv[1:] if argv is None else argv)
     state: dict[str, Any] = {"steps": 0, "wall_seconds": 0.0, "curve": [], "best": None}
@@ -274,7 +329,10 @@ def main(argv: list[str] | None = None) -> int:
     else:
         model = make_model(args, vec)
         run.log(f"started {args.algo}: {command}")
-    val_env = HapticExploreV1Env(**env_kwargs(args))
+    ENV_ID = env_id(args)  # noqa: N806
+    val_env = (HapticExploreTouchEnv if args.env == "touch" else HapticExploreV1Env)(
+        **env_kwargs(args)
+    )
     settings = {
         k: getattr(val_env.config.base, k)
         for k in ("backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",

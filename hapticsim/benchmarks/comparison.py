@@ -33,6 +33,7 @@ POLICY_STYLE: dict[str, dict[str, Any]] = {
     "paper": {"color": "tab:green", "marker": "s"},
     "uncertainty": {"color": "tab:red", "marker": "^"},
     "learned": {"color": "tab:blue", "marker": "D"},
+    "learned-touch": {"color": "tab:purple", "marker": "P"},
 }
 
 

@@ -27,7 +27,9 @@ from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.sim.free_space import FreeSpaceTrace
 
 #: The policies an exploration can run (``learned:PATH`` too: a weight file).
-POLICY_STRATEGIES: tuple[str, ...] = ("uncertainty", "information", "learned", "random")
+POLICY_STRATEGIES: tuple[str, ...] = (
+    "uncertainty", "information", "learned", "learned-touch", "random",
+)  # fmt: skip
 #: Touches in a row that record nothing before the run gives up.
 MAX_IDLE_TOUCHES: int = 40
 
@@ -55,8 +57,8 @@ def run_policy_exploration(
 
     Args:
         truth: the object, posed in the world.
-        policy: ``"uncertainty"``, ``"information"``, ``"learned"``, ``"random"`` or
-            ``"learned:PATH"``.
+        policy: ``"uncertainty"``, ``"information"``, ``"learned"``, ``"learned-touch"``,
+            ``"random"`` or ``"learned:PATH"``.
         count: contacts to gather.
         rng: seed or generator (the environment's seed, then the policy's).
         scene_config: the scene (:class:`~hapticsim.sim.scene.SceneConfig`; default ones).

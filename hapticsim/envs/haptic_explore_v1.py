@@ -104,6 +104,23 @@ def observed_contacts(obs: dict[str, np.ndarray], scale: float) -> Array:
     return np.asarray(obs["points"], dtype=np.float64)[mask] * scale
 
 
+#: Length of :func:`observation_head`.
+HEAD_DIM: int = N_PARAMS + 4
+
+
+def observation_head(obs: dict[str, np.ndarray]) -> Array:
+    """The first :data:`HEAD_DIM` entries of the compact (and touch) observation: the v0 fit,
+    its validity and error of fit, touches / 10 and contacts shown / 100, clipped to the
+    observation bound."""
+    head = np.concatenate(
+        [
+            np.asarray(obs["fit"], np.float64),
+            [float(obs["fit_valid"][0]), float(obs["eof"][0])],
+            [float(obs["touches"][0]) / TOUCH_SCALE, float(np.sum(obs["mask"])) / CONTACT_SCALE],
+        ]
+    )
+    return np.clip(head, -OBS_BOUND, OBS_BOUND)
+
 class CompactObserver:
     """The compact observation of v1, made from v0 observations and the agent's approaches.
 
@@ -177,17 +194,11 @@ class CompactObserver:
             d2 = np.sum((predicted[:, None, :] - contacts[None, :, :]) ** 2, axis=-1)
             gaps[:] = 0.0
             gaps[hit] = np.minimum(1.0, np.sqrt(d2.min(axis=1)) / float(np.mean(estimate.a)))
-        head = np.concatenate(
-            [
-                np.asarray(obs["fit"], np.float64),
-                [float(obs["fit_valid"][0]), float(obs["eof"][0])],
-                [float(obs["touches"][0]) / TOUCH_SCALE, len(contacts) / CONTACT_SCALE],
-            ]
-        )
+        head = observation_head(obs)
         open_gaps = np.where(self._failed, -1.0, gaps) if not self._failed.all() else gaps
         k = int(np.argmax(open_gaps))
         out = np.concatenate(
-            [np.clip(head, -OBS_BOUND, OBS_BOUND), gaps, self._failed, DIRECTIONS[k], [gaps[k]]]
+            [head, gaps, self._failed, DIRECTIONS[k], [gaps[k]]]
         )
         return out.astype(np.float32)
 
@@ -399,7 +410,7 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         self._eps = 1.0
         features = self.observer.reset(obs)
         self._gap = float(np.mean(features[GAP_SLICE]))
-        return features, info
+        return self._observe(obs, features, None), info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One touch (v0's step on the mapped action), the compact observation and reward."""
@@ -425,7 +436,14 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         info["approach"] = approach
         info["coverage_gap"] = gap
         done = bool(terminated or truncated)
-        return features, reward, done, False, info
+        return self._observe(obs, features, approach), reward, done, False, info
+
+    def _observe(
+        self, obs: dict[str, np.ndarray], features: NDArray[np.float32], approach: Array | None
+    ) -> NDArray[np.float32]:
+        """The agent's observation from v0's and the compact one (`approach`: the touch's,
+        None at a reset); here the compact one."""
+        return features
 
     def render(self) -> NDArray[np.uint8] | None:
         """An RGB picture (``render_mode="rgb_array"``), as v0."""

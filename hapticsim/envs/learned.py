@@ -17,6 +17,14 @@ Layers (``meta["layers"]``, applied in order to an observation vector):
 
 then the output squash ``meta["squash"]``: ``"tanh"`` (SAC, TQC, CrossQ) or ``"clip"`` to
 [-1, 1] (PPO's mean action).
+
+Set encoders (format version 2, ``meta["sets"]``): the observation's tail holds sets of
+elements (``offset``, ``count`` elements of ``width`` numbers, the last 1 where an element is
+present), as ``hapticsim/HapticExploreTouch-v0``'s contacts and touches. Each set's own layers
+map every present element (its numbers but the last) to a feature vector, pooled by the maximum
+and the mean over the present elements (zeros for an empty set); the MLP above then takes the
+observation's head (the entries before the first set) and every set's pooled features, in
+order. The result does not depend on the order of a set's elements.
 """
 
 from __future__ import annotations
@@ -38,8 +46,10 @@ Array = NDArray[np.float64]
 
 #: ``meta["format"]`` of a weight file.
 FORMAT: str = "hapticsim-actor"
-#: Version of the file format this code reads and writes.
+#: Version of the file format this code writes for a plain MLP (2: with set encoders).
 FORMAT_VERSION: int = 1
+#: Versions of the file format this code reads.
+READ_VERSIONS: tuple[int, ...] = (1, 2)
 #: Layer kinds and how many arrays each takes.
 LAYER_ARRAYS: dict[str, int] = {"linear": 2, "relu": 0, "tanh": 0, "batch_renorm": 4}
 #: Output squashes.
@@ -50,9 +60,131 @@ SQUASHES: tuple[str, ...] = ("tanh", "clip")
 MEANING_SETTINGS: tuple[str, ...] = ("obs_scale", "max_stroke", "stroke_spacing")
 
 
+def _check_layers(layers: tuple[str, ...], params: tuple[Array, ...], width: int | None) -> int:
+    """Check a layer stack's arrays (`width`: its input size, None: any); returns its output
+    size."""
+    unknown = [k for k in layers if k not in LAYER_ARRAYS]
+    if unknown:
+        raise InvalidInputError(f"`layers` must be kinds from {tuple(LAYER_ARRAYS)}, got {unknown}")
+    expected = sum(LAYER_ARRAYS[k] for k in layers)
+    if len(params) != expected:
+        raise InvalidInputError(
+            f"`params` must hold {expected} arrays for layers {list(layers)}, got {len(params)}"
+        )
+    for i, p in enumerate(params):
+        if not np.all(np.isfinite(p)):
+            raise InvalidInputError(f"`params[{i}]` holds NaN or infinite values")
+    if not any(kind == "linear" for kind in layers):
+        raise InvalidInputError("an actor needs at least one linear layer")
+    k = 0
+    for kind in layers:
+        arrays = params[k : k + LAYER_ARRAYS[kind]]
+        k += LAYER_ARRAYS[kind]
+        if kind == "linear":
+            w, b = arrays
+            if w.ndim != 2 or b.shape != (w.shape[0],):
+                raise InvalidInputError(
+                    f"a linear layer needs W (out, in) and b (out,), got {w.shape}, {b.shape}"
+                )
+            if width is not None and w.shape[1] != width:
+                raise InvalidInputError(
+                    f"a linear layer takes {w.shape[1]} inputs after a layer of {width}"
+                )
+            width = w.shape[0]
+        elif kind == "batch_renorm":
+            if width is not None and any(a.shape != (width,) for a in arrays):
+                raise InvalidInputError(f"a batch_renorm layer needs four ({width},) arrays")
+            if np.any(arrays[1] < 0):
+                raise InvalidInputError("a batch_renorm layer has a negative variance")
+    return int(width)  # type: ignore[arg-type]
+
+
+def _apply(layers: tuple[str, ...], params: tuple[Array, ...], x: Array, eps: float) -> Array:
+    """A layer stack applied to the last axis of `x`."""
+    k = 0
+    for kind in layers:
+        arrays = params[k : k + LAYER_ARRAYS[kind]]
+        k += LAYER_ARRAYS[kind]
+        if kind == "linear":
+            x = x @ arrays[0].T + arrays[1]
+        elif kind == "relu":
+            x = np.maximum(x, 0.0)
+        elif kind == "tanh":
+            x = np.tanh(x)
+        else:
+            mean, var, scale, bias = arrays
+            x = (x - mean) / np.sqrt(var + eps) * scale + bias
+    return x
+
+
+def _as_params(params: Any) -> tuple[Array, ...]:
+    return tuple(np.asarray(p, dtype=np.float64) for p in params)
+
+
+@dataclass(frozen=True, eq=False)
+class SetEncoder:
+    """A permutation-invariant encoder of one set in the observation (module docstring).
+
+    Attributes:
+        offset: where the set starts in the observation vector.
+        count: its elements.
+        width: numbers per element, the last one 1 where the element is present.
+        layers: layer kinds of the per-element network (input ``width - 1``).
+        params: their arrays.
+    """
+
+    offset: int
+    count: int
+    width: int
+    layers: tuple[str, ...]
+    params: tuple[Array, ...]
+
+    def __post_init__(self) -> None:
+        for name in ("offset", "count", "width"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+                raise InvalidInputError(f"a set's `{name}` must be an int >= 0, got {value!r}")
+        if self.count < 1 or self.width < 2:
+            raise InvalidInputError(
+                f"a set needs count >= 1 and width >= 2, got {self.count} and {self.width}"
+            )
+        object.__setattr__(self, "layers", tuple(self.layers))
+        object.__setattr__(self, "params", _as_params(self.params))
+        _check_layers(self.layers, self.params, self.width - 1)
+
+    @property
+    def end(self) -> int:
+        """Where the set ends in the observation vector."""
+        return int(self.offset + self.count * self.width)
+
+    @property
+    def features(self) -> int:
+        """Length of the pooled features (maximum and mean of the per-element network's
+        output)."""
+        last_weight = [p for p in self.params if p.ndim == 2][-1]
+        return 2 * int(last_weight.shape[0])
+
+    def __call__(self, x: Array, eps: float) -> Array:
+        """(n, features) pooled features of a batch of observations (n, obs_dim)."""
+        e = x[:, self.offset : self.end].reshape(len(x), self.count, self.width)
+        present = e[:, :, -1:] > 0.5
+        h = _apply(self.layers, self.params, e[:, :, :-1], eps)
+        n = present.sum(axis=1)
+        top = np.where(present, h, -np.inf).max(axis=1)
+        top = np.where(n > 0, top, 0.0)
+        mean = np.where(present, h, 0.0).sum(axis=1) / np.maximum(n, 1)
+        return np.concatenate([top, mean], axis=1)
+
+    def record(self) -> dict[str, Any]:
+        """Its entry in ``meta["sets"]``."""
+        return {"offset": int(self.offset), "count": int(self.count), "width": int(self.width),
+                "layers": list(self.layers)}  # fmt: skip
+
+
 @dataclass(frozen=True, eq=False)
 class Actor:
-    """A deterministic actor: an MLP from observation to action, and what it was trained for.
+    """A deterministic actor: an MLP from observation to action (with set encoders in front of
+    it, if any), and what it was trained for.
 
     Attributes:
         layers: layer kinds (:data:`LAYER_ARRAYS`), in order.
@@ -60,59 +192,38 @@ class Actor:
         squash: ``"tanh"`` or ``"clip"``.
         meta: the file's record: ``env_id``, ``obs_dim``, ``action_dim``, ``settings``
             (environment settings), ``training`` (algorithm, steps, seed, wall time, command).
+        sets: the set encoders (:class:`SetEncoder`), which must follow one another to the
+            observation's end; none: the MLP takes the observation.
     """
 
     layers: tuple[str, ...]
     params: tuple[Array, ...]
     squash: str
     meta: dict[str, Any] = field(default_factory=dict)
+    sets: tuple[SetEncoder, ...] = ()
 
     def __post_init__(self) -> None:
-        unknown = [k for k in self.layers if k not in LAYER_ARRAYS]
-        if unknown:
-            raise InvalidInputError(
-                f"`layers` must be kinds from {tuple(LAYER_ARRAYS)}, got {unknown}"
-            )
         if self.squash not in SQUASHES:
             raise InvalidInputError(f"`squash` must be one of {SQUASHES}, got {self.squash!r}")
-        expected = sum(LAYER_ARRAYS[k] for k in self.layers)
-        if len(self.params) != expected:
-            raise InvalidInputError(
-                f"`params` must hold {expected} arrays for layers {list(self.layers)}, got "
-                f"{len(self.params)}"
-            )
-        params = tuple(np.asarray(p, dtype=np.float64) for p in self.params)
-        for i, p in enumerate(params):
-            if not np.all(np.isfinite(p)):
-                raise InvalidInputError(f"`params[{i}]` holds NaN or infinite values")
-        object.__setattr__(self, "params", params)
+        object.__setattr__(self, "layers", tuple(self.layers))
+        object.__setattr__(self, "params", _as_params(self.params))
+        object.__setattr__(self, "sets", tuple(self.sets))
         width = None
-        k = 0
-        for kind in self.layers:
-            arrays = params[k : k + LAYER_ARRAYS[kind]]
-            k += LAYER_ARRAYS[kind]
-            if kind == "linear":
-                w, b = arrays
-                if w.ndim != 2 or b.shape != (w.shape[0],):
+        if self.sets:
+            for a, b in zip(self.sets[:-1], self.sets[1:], strict=True):
+                if b.offset != a.end:
                     raise InvalidInputError(
-                        f"a linear layer needs W (out, in) and b (out,), got {w.shape}, {b.shape}"
+                        f"the sets must follow one another: one ends at {a.end}, the next "
+                        f"starts at {b.offset}"
                     )
-                if width is not None and w.shape[1] != width:
-                    raise InvalidInputError(
-                        f"a linear layer takes {w.shape[1]} inputs after a layer of {width}"
-                    )
-                width = w.shape[0]
-            elif kind == "batch_renorm":
-                if width is not None and any(a.shape != (width,) for a in arrays):
-                    raise InvalidInputError(f"a batch_renorm layer needs four ({width},) arrays")
-                if np.any(arrays[1] < 0):
-                    raise InvalidInputError("a batch_renorm layer has a negative variance")
-        if not any(kind == "linear" for kind in self.layers):
-            raise InvalidInputError("an actor needs at least one linear layer")
+            width = self.sets[0].offset + sum(e.features for e in self.sets)
+        _check_layers(self.layers, self.params, width)
 
     @property
     def obs_dim(self) -> int:
         """Length of the observation vector."""
+        if self.sets:
+            return self.sets[-1].end
         return int(self.params[self._first_linear()].shape[1])
 
     @property
@@ -147,19 +258,13 @@ class Actor:
                 f"`obs` must be ({self.obs_dim},) or (n, {self.obs_dim}) float, got {x.shape}"
             )
         eps = float(self.meta.get("batch_renorm_eps", 1e-3))
-        k = 0
-        for kind in self.layers:
-            arrays = self.params[k : k + LAYER_ARRAYS[kind]]
-            k += LAYER_ARRAYS[kind]
-            if kind == "linear":
-                x = x @ arrays[0].T + arrays[1]
-            elif kind == "relu":
-                x = np.maximum(x, 0.0)
-            elif kind == "tanh":
-                x = np.tanh(x)
-            else:
-                mean, var, scale, bias = arrays
-                x = (x - mean) / np.sqrt(var + eps) * scale + bias
+        if self.sets:
+            batch = x.reshape(-1, self.obs_dim)
+            z = np.concatenate(
+                [batch[:, : self.sets[0].offset], *(e(batch, eps) for e in self.sets)], axis=1
+            )
+            x = z.reshape(x.shape[:-1] + z.shape[-1:])
+        x = _apply(self.layers, self.params, x, eps)
         x = np.tanh(x) if self.squash == "tanh" else np.clip(x, -1.0, 1.0)
         return x.astype(np.float32)
 
@@ -195,11 +300,18 @@ class Actor:
     def to_bytes(self) -> bytes:
         """The ``.npz`` file's content."""
         meta = dict(self.meta)
+        meta.pop("sets", None)
         meta.update(
-            format=FORMAT, format_version=FORMAT_VERSION, layers=list(self.layers),
-            squash=self.squash, obs_dim=self.obs_dim, action_dim=self.action_dim,
+            format=FORMAT, format_version=2 if self.sets else FORMAT_VERSION,
+            layers=list(self.layers), squash=self.squash, obs_dim=self.obs_dim,
+            action_dim=self.action_dim,
         )  # fmt: skip
         arrays = {f"param_{i}": p.astype(np.float32) for i, p in enumerate(self.params)}
+        if self.sets:
+            meta["sets"] = [e.record() for e in self.sets]
+            for j, e in enumerate(self.sets):
+                arrays.update({f"set{j}_param_{i}": p.astype(np.float32)
+                               for i, p in enumerate(e.params)})  # fmt: skip
         buf = io.BytesIO()
         np.savez_compressed(buf, meta=np.array(json.dumps(meta, sort_keys=True)), **arrays)
         return buf.getvalue()
@@ -257,10 +369,10 @@ def load_actor(
             f"policy weights file {str(path)!r} is not a {FORMAT} file (format "
             f"{meta.get('format')!r})"
         )
-    if meta.get("format_version") != FORMAT_VERSION:
+    if meta.get("format_version") not in READ_VERSIONS:
         raise InvalidInputError(
             f"policy weights file {str(path)!r} has format version "
-            f"{meta.get('format_version')!r}; this hapticsim reads version {FORMAT_VERSION}"
+            f"{meta.get('format_version')!r}; this hapticsim reads versions {READ_VERSIONS}"
         )
     layers = meta.get("layers")
     if not isinstance(layers, list) or not all(isinstance(k, str) for k in layers):
@@ -270,11 +382,15 @@ def load_actor(
     if missing:
         raise InvalidInputError(f"policy weights file {str(path)!r} lacks arrays {missing}")
     try:
+        sets = tuple(
+            _read_set(files, j, record) for j, record in enumerate(meta.pop("sets", None) or [])
+        )
         actor = Actor(
             tuple(layers),
             tuple(files[f"param_{i}"] for i in range(count)),
             str(meta.get("squash")),
             meta,
+            sets,
         )
     except InvalidInputError as exc:
         raise InvalidInputError(f"policy weights file {str(path)!r}: {exc}") from None
@@ -291,6 +407,20 @@ def load_actor(
             f"hapticsim runs learned policies for {', '.join(wanted)}"
         )
     return actor
+
+
+def _read_set(files: dict[str, Any], j: int, record: Any) -> SetEncoder:
+    """Set encoder `j` of a weight file."""
+    if not isinstance(record, dict) or not isinstance(record.get("layers"), list):
+        raise InvalidInputError(f"`sets[{j}]` must be a record with `layers`")
+    count = sum(LAYER_ARRAYS.get(k, 0) for k in record["layers"])
+    missing = [f"set{j}_param_{i}" for i in range(count) if f"set{j}_param_{i}" not in files]
+    if missing:
+        raise InvalidInputError(f"lacks arrays {missing}")
+    return SetEncoder(
+        record.get("offset"), record.get("count"), record.get("width"), tuple(record["layers"]),
+        tuple(files[f"set{j}_param_{i}"] for i in range(count)),
+    )  # fmt: skip
 
 
 def actor_from_sb3(model: Any, meta: dict[str, Any]) -> Actor:
@@ -335,19 +465,32 @@ def actor_from_sb3(model: Any, meta: dict[str, Any]) -> Actor:
                 raise InvalidInputError(f"the actor has a layer the exporter does not know: {name}")
         return kinds, arrays
 
+    def encoders(extractor: Any) -> tuple[SetEncoder, ...]:
+        # hapticsim.experiments.sb3.TouchSetExtractor: one network per set; others: none
+        if extractor is None or not hasattr(extractor, "set_nets"):
+            return ()
+        out = []
+        for (offset, count, width), net in zip(extractor.sets, extractor.set_nets, strict=True):
+            kinds, arrays = walk(net)
+            out.append(SetEncoder(offset, count, width, tuple(kinds), tuple(arrays)))
+        return tuple(out)
+
     meta_out: dict[str, Any] = dict(meta)
     policy = model.policy
     if hasattr(policy, "actor") and hasattr(policy.actor, "latent_pi"):
         actor = policy.actor
         if getattr(actor, "use_sde", False):
             raise InvalidInputError("actors with gSDE are not supported")
+        sets = encoders(getattr(actor, "features_extractor", None))
         kinds, arrays = walk(actor.latent_pi)
         k2, a2 = walk([actor.mu])
         squash = "tanh"
     elif hasattr(policy, "mlp_extractor") and hasattr(policy, "action_net"):
+        extractor = getattr(policy, "pi_features_extractor", None)
+        sets = encoders(extractor if extractor is not None else policy.features_extractor)
         kinds, arrays = walk(policy.mlp_extractor.policy_net)
         k2, a2 = walk([policy.action_net])
         squash = "clip"
     else:
         raise InvalidInputError(f"cannot export the actor of a {type(model).__name__} model")
-    return Actor(tuple(kinds + k2), tuple(arrays + a2), squash, meta_out)
+    return Actor(tuple(kinds + k2), tuple(arrays + a2), squash, meta_out, sets)

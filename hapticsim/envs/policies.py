@@ -20,7 +20,11 @@ stroke length, finger count, budget), never the ground truth:
   (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
   the v0 observation. ``"learned"`` is the actor shipped in the package (trained by
   ``scripts/train_policy.py``; recipe and results in ``docs/policies/learned/``),
-  ``"learned:PATH"`` any weight file.
+  ``"learned:PATH"`` any weight file. ``"learned-touch"`` is the shipped actor that learned
+  from the touch history itself (``hapticsim/HapticExploreTouch-v0``'s observation,
+  :class:`~hapticsim.envs.haptic_explore_touch.TouchObserver`: contacts, normals and past
+  touches encoded by a permutation-invariant network; ``docs/policies/learned_touch/``); a
+  weight file trained on either observation runs as ``"learned:PATH"``.
 
 All take ``rng`` (seed or generator) and are deterministic given it (the learned policy is
 deterministic and ignores it).
@@ -38,10 +42,12 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import did_you_mean
 from hapticsim.constants import DEFAULT_LAMBDA
+from hapticsim.envs import haptic_explore_touch as touch_env
 from hapticsim.envs import haptic_explore_v1 as v1
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
+from hapticsim.envs.registration import canonical_id
 from hapticsim.envs.touch import encode_touch
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting.uncertainty import (
@@ -59,11 +65,21 @@ Array = NDArray[np.float64]
 Observation = dict[str, np.ndarray]
 
 #: Names of the policies (:func:`make_policy`); ``"learned:PATH"`` names a weight file too.
-POLICY_NAMES: tuple[str, ...] = ("random", "paper", "uncertainty", "information", "learned")
+POLICY_NAMES: tuple[str, ...] = (
+    "random", "paper", "uncertainty", "information", "learned", "learned-touch",
+)  # fmt: skip
 #: Prefix of a policy name that gives a weight file: ``"learned:PATH"``.
 LEARNED_PREFIX: str = "learned:"
 #: The weight file of the shipped ``"learned"`` policy.
 LEARNED_WEIGHTS: Path = Path(__file__).with_name("data") / "learned_policy.npz"
+#: The weight file of the shipped ``"learned-touch"`` policy.
+LEARNED_TOUCH_WEIGHTS: Path = Path(__file__).with_name("data") / "learned_touch_policy.npz"
+#: The observations a learned actor can be trained on: environment id -> (observation size,
+#: its observer made from the v0 observation's length scale).
+LEARNED_OBSERVATIONS: dict[str, tuple[int, Callable[[float], Any]]] = {
+    v1.ENV_ID: (v1.OBS_DIM, v1.CompactObserver),
+    touch_env.ENV_ID: (touch_env.OBS_DIM, lambda obs_scale: touch_env.TouchObserver()),
+}
 
 
 class Policy:
@@ -355,28 +371,32 @@ def _distance_to_set(points: Array, contacts: Array) -> Array:
 
 
 class LearnedPolicy(Policy):
-    """A trained actor on the compact observation of ``HapticExploreCompact-v0``; deterministic.
+    """A trained actor on the compact observation of ``HapticExploreCompact-v0`` or the touch
+    observation of ``HapticExploreTouch-v0`` (the weight file says which); deterministic.
 
     On a v0 environment (the comparisons, ``hapticsim policies evaluate``, the suites) it makes
-    the v1 observation itself with a :class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`
-    (from the v0 observation and its own past approaches: exactly what the v1 environment
-    shows) and returns the v0 action of its v1 action
-    (:func:`~hapticsim.envs.haptic_explore_v1.v0_action`: the fingers in turn); on a v1
-    environment it acts on the observation directly.
+    the observation it was trained on itself, with a
+    :class:`~hapticsim.envs.haptic_explore_v1.CompactObserver` or a
+    :class:`~hapticsim.envs.haptic_explore_touch.TouchObserver` (from the v0 observation and its
+    own past approaches: exactly what the training environment shows), and returns the v0
+    action of its action (:func:`~hapticsim.envs.haptic_explore_v1.v0_action`: the fingers in
+    turn); on its own training environment it acts on the observation directly.
 
     Args:
-        env: the environment (``HapticExplore-v0`` or ``-v1``; configuration only).
+        env: the environment (``HapticExplore-v0``, or the actor's own; configuration only).
         rng: ignored (the actor is deterministic); accepted for the common interface.
-        path: the weight file (default: the shipped one, :data:`LEARNED_WEIGHTS`).
+        path: the weight file (default: the shipped one, :attr:`default_weights`).
 
     Raises:
         InvalidInputError: a missing or malformed weight file, one trained for another
-            environment version, observation or action size, or for other observation or action
+            environment, observation or action size, or for other observation or action
             settings than the environment's (``obs_scale``, ``max_stroke``, ``stroke_spacing``);
-            the message says what it was trained for.
+            an environment of another observation; the message says what it was trained for.
     """
 
     name = "learned"
+    #: The weight file without `path`.
+    default_weights: Path = LEARNED_WEIGHTS
 
     def __init__(
         self,
@@ -385,14 +405,22 @@ class LearnedPolicy(Policy):
         path: str | Path | None = None,
     ) -> None:
         base = env.unwrapped
-        self.on_v1 = isinstance(base, v1.HapticExploreV1Env)
-        self.config = base.config.base if self.on_v1 else base.config
+        own = isinstance(base, v1.HapticExploreV1Env)
+        self.config = base.config.base if own else base.config
         self.n_fingers = base.n_fingers
         self.action_space = base.action_space
         self.rng = np.random.default_rng(rng)
-        self.actor = load_learned(path, self.config)
-        self.path = LEARNED_WEIGHTS if path is None else Path(path)
-        self.observer = v1.CompactObserver(self.config.obs_scale)
+        self.path = self.default_weights if path is None else Path(path)
+        self.actor = load_learned(self.path, self.config)
+        env_id = canonical_id(str(self.actor.meta.get("env_id")))
+        self.on_v1 = own and base.observation_space.shape == (self.actor.obs_dim,)
+        if own and not self.on_v1:
+            raise InvalidInputError(
+                f"the policy was trained for {self.actor.describe()}; this environment shows "
+                f"observations of size {base.observation_space.shape}: run it on "
+                f"HapticExplore-v0 or on {env_id}"
+            )
+        self.observer = LEARNED_OBSERVATIONS[env_id][1](self.config.obs_scale)
         self._last: Array | None = None
 
     @property
@@ -418,11 +446,19 @@ class LearnedPolicy(Policy):
         return action
 
 
+class LearnedTouchPolicy(LearnedPolicy):
+    """The shipped actor that learned from the touch history (:class:`LearnedPolicy` with
+    :data:`LEARNED_TOUCH_WEIGHTS`)."""
+
+    name = "learned-touch"
+    default_weights = LEARNED_TOUCH_WEIGHTS
+
+
 def load_learned(path: str | Path | None, config: Any = None):  # noqa: ANN201 - learned.Actor
-    """The actor of a weight file, checked for ``HapticExploreCompact-v0`` and a config.
+    """The actor of a weight file, checked for a learners' environment and a config.
 
     Args:
-        path: the weight file; None: the shipped one (:data:`LEARNED_WEIGHTS`).
+        path: the weight file; None: the shipped ``"learned"`` one (:data:`LEARNED_WEIGHTS`).
         config: a :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreConfig` whose
             observation and action settings must be the trained ones (None: not checked).
 
@@ -432,22 +468,34 @@ def load_learned(path: str | Path | None, config: Any = None):  # noqa: ANN201 -
 
     if path is None:
         path = LEARNED_WEIGHTS
-        if not path.is_file():
-            raise InvalidInputError(
-                f"the shipped learned policy {str(path)!r} is missing from this installation"
-            )
-    actor = load_actor(path, env_id=v1.ENV_ID, obs_dim=v1.OBS_DIM, action_dim=v1.ACTION_DIM_V1)
+    path = Path(path)
+    if path in (LEARNED_WEIGHTS, LEARNED_TOUCH_WEIGHTS) and not path.is_file():
+        raise InvalidInputError(
+            f"the shipped learned policy {str(path)!r} is missing from this installation"
+        )
+    actor = load_actor(path, action_dim=v1.ACTION_DIM_V1)
+    env_id = canonical_id(str(actor.meta.get("env_id")))
+    if env_id not in LEARNED_OBSERVATIONS or actor.obs_dim != LEARNED_OBSERVATIONS[env_id][0]:
+        wanted = ", ".join(f"{k} (observation size {n})" for k, (n, _) in
+                           LEARNED_OBSERVATIONS.items())  # fmt: skip
+        raise InvalidInputError(
+            f"policy weights file {str(path)!r} was trained for {actor.describe()}; this "
+            f"hapticsim runs learned policies for {wanted}"
+        )
     if config is not None:
         actor.check_settings({k: getattr(config, k) for k in MEANING_SETTINGS})
     return actor
 
 
 def learned_path(name: str) -> Path | None:
-    """The weight file a policy name gives: None for ``"learned"`` (the shipped one), PATH for
-    ``"learned:PATH"``; raises for other names (:func:`check_policy_name`)."""
+    """The weight file a policy name gives: None for ``"learned"`` (the shipped one), the
+    shipped touch actor for ``"learned-touch"``, PATH for ``"learned:PATH"``; raises for other
+    names (:func:`check_policy_name`)."""
     check_policy_name(name)
     if name == "learned":
         return None
+    if name == "learned-touch":
+        return LEARNED_TOUCH_WEIGHTS
     if not name.startswith(LEARNED_PREFIX):
         raise InvalidInputError(f"`policy` {name!r} is not a learned policy")
     return Path(name[len(LEARNED_PREFIX) :])
@@ -459,6 +507,7 @@ POLICIES: dict[str, type[Policy]] = {
     "uncertainty": UncertaintyPolicy,
     "information": InformationPolicy,
     "learned": LearnedPolicy,
+    "learned-touch": LearnedTouchPolicy,
 }
 
 

@@ -14,7 +14,10 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
   version lookup, so v0 warns of nothing;
 - ``hapticsim/HapticExploreTactile-v0``: the task felt through taxel pads, their images in the
   observation (:class:`~hapticsim.envs.haptic_explore_tactile_v0.HapticExploreTactileEnv`): an
-  environment of its own name, another observation (SPEC §8).
+  environment of its own name, another observation (SPEC §8);
+- ``hapticsim/HapticExploreTouch-v0``: the compact task observed as the touch history itself
+  (contacts, normals and past touches as sets for a permutation-invariant encoder, no coverage
+  features; :class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchEnv`).
 
 Each id's vector entry point is :class:`~hapticsim.envs.vector.HapticVectorEnv`: ``gym.make_vec(
 env_id, num_envs=N)`` steps the N environments in one worker process per CPU core, not one per
@@ -46,6 +49,11 @@ HAPTIC_EXPLORE_TACTILE_ENTRY_POINT: str = (
     "hapticsim.envs.haptic_explore_tactile_v0:HapticExploreTactileEnv"
 )
 
+#: Id of the touch-history variant for learners.
+HAPTIC_EXPLORE_TOUCH_ID: str = "hapticsim/HapticExploreTouch-v0"
+#: Its string entry point.
+HAPTIC_EXPLORE_TOUCH_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_touch:HapticExploreTouchEnv"
+
 
 def canonical_id(env_id: str) -> str:
     """The id an environment id stands for today (a renamed id gives its new name)."""
@@ -74,8 +82,9 @@ def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: 
 
 
 def register_envs() -> None:
-    """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0`` and
-    ``hapticsim/HapticExploreTactile-v0``, and the renamed ids (:data:`RENAMED_IDS`); calling
+    """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0``,
+    ``hapticsim/HapticExploreTactile-v0`` and ``hapticsim/HapticExploreTouch-v0``, and the
+    renamed ids (:data:`RENAMED_IDS`); calling
     it again does nothing."""
 
     for old_id in RENAMED_IDS:
@@ -91,6 +100,7 @@ def register_envs() -> None:
         (HAPTIC_EXPLORE_ID, HAPTIC_EXPLORE_ENTRY_POINT),
         (HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_COMPACT_ENTRY_POINT),
         (HAPTIC_EXPLORE_TACTILE_ID, HAPTIC_EXPLORE_TACTILE_ENTRY_POINT),
+        (HAPTIC_EXPLORE_TOUCH_ID, HAPTIC_EXPLORE_TOUCH_ENTRY_POINT),
     ):
         if env_id in registry:
             continue
