@@ -4,9 +4,9 @@ Reads the JSON that ``hapticsim policies evaluate`` printed for several policies
 backend, objects, seed, episodes and touches (so the episodes pair), writes with
 :func:`hapticsim.benchmarks.comparison.write_comparison` a folder with ``README.md`` (mean ± std
 (median) after N touches; paired Wilcoxon tests of every policy against random, learned ones
-against uncertainty too), ``epsilon.csv``, ``epsilon.png`` and ``raw.json``, and prints as JSON
-the figures after the last touch and the bar of issue 10 (eps_L <= eps_R - 0.5 (eps_R - eps_U)
-and a two-sided paired Wilcoxon p below ``--alpha``)::
+against uncertainty and the shipped ``learned`` too), ``epsilon.csv``, ``epsilon.png`` and
+``raw.json``, and prints as JSON the figures after the last touch and the bar of issue 10
+(eps_L <= eps_R - 0.5 (eps_R - eps_U) and a two-sided paired Wilcoxon p below ``--alpha``)::
 
     python scripts/learned_report.py docs/policies/learned/json/analytic-*.json \\
         --out docs/policies/learned/analytic
@@ -107,9 +107,11 @@ def main(argv: list[str] | None = None) -> int:
     out["epsilon_after_last_touch"] = final
     tests = {}
     for policy in cmp.policies:
-        for baseline in ("random", "uncertainty"):
+        for baseline in ("random", "uncertainty", "learned"):
             if policy in ("random", baseline) or baseline not in cmp.policies:
                 continue
+            if baseline == "learned" and not policy.startswith("learned"):
+                continue  # learned policies against the shipped compact one
             t = cmp.paired_test(policy, baseline, objects, touches)
             a = cmp.epsilon(policy, objects)[:, touches - 1]
             b = cmp.epsilon(baseline, objects)[:, touches - 1]
