@@ -76,6 +76,7 @@ def test_same_seed_same_objects_for_every_policy_and_any_worker_count(tmp_path) 
         (["--policy", "random", "--episodes", "0"], "--episodes: must be an integer >= 1"),
         (["--policy", "random", "--objects", "cubes"], "invalid choice: 'cubes'"),
         (["--policy", "random", "--seed", "-1"], "--seed: must be an integer in [0,"),
+        (["--policy", "random", "--noise", "3"], "`noise` must be in [0.0, 1.0], got 3.0"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(capsys, args: list[str], message: str) -> None:  # noqa: ANN001
@@ -93,3 +94,13 @@ def test_weights_for_another_env_version_are_refused_on_the_command_line(capsys,
     assert code == 2 and out == ""
     assert "trained for hapticsim/HapticExplore-v0 with observation size 40" in err
     assert "hapticsim/HapticExploreCompact-v0" in err
+
+
+def test_noise_reaches_the_environment(capsys) -> None:  # noqa: ANN001
+    runs = {}
+    for noise in ("0", "0.1"):
+        code, out, _ = run_cli(capsys, "--policy", "random", "--episodes", "1", "--touches", "6",
+                               "--workers", "1", "--noise", noise, "--quiet")  # fmt: skip
+        assert code == 0
+        runs[noise] = json.loads(out)["episodes_epsilon"][0]
+    assert runs["0"] != runs["0.1"]
