@@ -59,6 +59,21 @@ if [ "${BEST:-0}" = 1 ]; then
   done
 fi
 
+# The training ablation without the reward's coverage term (NOCOV=1; training not repeated:
+#   python scripts/train_policy.py --algo ppo --env touch --vector native --n-envs 16 \
+#     --n-steps 128 --n-epochs 5 --batch-size 256 --timesteps 250000 --val-every 20000 \
+#     --checkpoint-every 50000 --coverage-weight 0 --max-hours 0.5 --out runs/learned_touch_nocov
+#   cp runs/learned_touch_nocov/{curve.csv,curve.png,train.log,summary.json,policy_last.npz} \
+#     docs/policies/learned_touch/nocov/)
+if [ "${NOCOV:-0}" = 1 ]; then
+  hapticsim policies evaluate --policy learned:docs/policies/learned_touch/nocov/policy_last.npz \
+    --touches 10 --workers 2 --quiet --backend analytic --objects random --episodes 100 --seed 0 \
+    > "$out/nocov-random.json"
+  python scripts/learning_curves.py docs/policies/learned_touch/training \
+    docs/policies/learned_touch/nocov --labels "coverage term 2 (shipped)" "no coverage term" \
+    --out docs/policies/learned_touch/coverage_ablation.png
+fi
+
 # Tables, plots and paired tests per family (REPORT=1), and the figures of README.md.
 if [ "${REPORT:-0}" = 1 ]; then
   for family in random tapered paper composite noise10 mujoco validation; do
