@@ -104,7 +104,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         help="critic/value widths (default: --net; CrossQ's paper uses 1024 1024 or wider)",
     )  # fmt: skip
     p.add_argument("--lr", type=float, default=None, help="learning rate (default per algo)")
-    p.add_argument("--batch-size", type=int, default=256)
+    p.add_argument(
+        "--batch-size", type=int, default=None,
+        help="minibatch size (default 256 for the off-policy learners, 128 for PPO)",
+    )  # fmt: skip
     p.add_argument("--buffer-size", type=int, default=400_000)
     p.add_argument("--learning-starts", type=int, default=1_000)
     p.add_argument("--gamma", type=float, default=0.98)
@@ -162,14 +165,14 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
 
         return PPO(
             "MlpPolicy", env, learning_rate=args.lr or 3e-4, n_steps=args.n_steps,
-            batch_size=args.batch_size if args.env == "touch" else 128, n_epochs=args.n_epochs,
+            batch_size=args.batch_size or 128, n_epochs=args.n_epochs,
             gae_lambda=0.95, ent_coef=0.0,
             policy_kwargs={"net_arch": {"pi": arch, "vf": critic}, "activation_fn": torch.nn.Tanh,
                            **extractor},
             **common,
         )  # fmt: skip
     off = {
-        "buffer_size": args.buffer_size, "batch_size": args.batch_size,
+        "buffer_size": args.buffer_size, "batch_size": args.batch_size or 256,
         "learning_starts": args.learning_starts, "train_freq": 1,
         "gradient_steps": args.gradient_steps,
     }  # fmt: skip
@@ -329,7 +332,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         model = make_model(args, vec)
         run.log(f"started {args.algo}: {command}")
-    ENV_ID = env_id(args)  # noqa: N806
+    trained_id = env_id(args)
     val_env = (HapticExploreTouchEnv if args.env == "touch" else HapticExploreV1Env)(
         **env_kwargs(args)
     )
@@ -348,7 +351,7 @@ def main(argv: list[str] | None = None) -> int:
     def meta(steps: int) -> dict[str, Any]:
         wall = base_wall + time.perf_counter() - start_wall
         return {
-            "env_id": ENV_ID, "settings": settings,
+            "env_id": trained_id, "settings": settings,
             "training": {
                 "algo": args.algo, "steps": steps, "seed": args.seed, "wall_seconds": wall,
                 "command": command, "hyperparameters": saved_args,
@@ -393,7 +396,7 @@ def main(argv: list[str] | None = None) -> int:
         (args.out / "curve.csv").write_text("\n".join(lines) + "\n")
         plot_curve(
             state["curve"], args.out / "curve.png",
-            f"{args.algo.upper()} on {ENV_ID}, {args.objects} objects: validation "
+            f"{args.algo.upper()} on {trained_id}, {args.objects} objects: validation "
             f"({args.val_episodes} objects, {args.budget} touches)",
         )  # fmt: skip
         run.log(

@@ -14,8 +14,7 @@ Modules: ``haptic_explore_v0`` (the environment), ``observation`` (its fit codec
 schedule), ``policies`` (baseline exploration policies), ``rendering`` (pictures),
 ``vector`` (the native vector environment: N environments in one worker process per core,
 ``gym.make_vec``'s default for hapticsim's ids), ``registration``. Policy comparisons and speed
-benchmarks sit on top, in
-:mod:`hapticsim.benchmarks`; the object distributions an episode draws from are data
-(:mod:`hapticsim.data.distributions`).
+benchmarks sit on top, in :mod:`hapticsim.benchmarks`; the object distributions an episode
+draws from are data (:mod:`hapticsim.data.distributions`).
 Importing this package imports neither gymnasium nor MuJoCo.
 """

@@ -121,6 +121,7 @@ def observation_head(obs: dict[str, np.ndarray]) -> Array:
     )
     return np.clip(head, -OBS_BOUND, OBS_BOUND)
 
+
 class CompactObserver:
     """The compact observation of v1, made from v0 observations and the agent's approaches.
 
@@ -197,9 +198,7 @@ class CompactObserver:
         head = observation_head(obs)
         open_gaps = np.where(self._failed, -1.0, gaps) if not self._failed.all() else gaps
         k = int(np.argmax(open_gaps))
-        out = np.concatenate(
-            [head, gaps, self._failed, DIRECTIONS[k], [gaps[k]]]
-        )
+        out = np.concatenate([head, gaps, self._failed, DIRECTIONS[k], [gaps[k]]])
         return out.astype(np.float32)
 
 

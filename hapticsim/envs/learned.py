@@ -46,10 +46,12 @@ Array = NDArray[np.float64]
 
 #: ``meta["format"]`` of a weight file.
 FORMAT: str = "hapticsim-actor"
-#: Version of the file format this code writes for a plain MLP (2: with set encoders).
+#: Version of the file format this code writes for a plain MLP.
 FORMAT_VERSION: int = 1
+#: Version it writes for an actor with set encoders.
+SETS_FORMAT_VERSION: int = 2
 #: Versions of the file format this code reads.
-READ_VERSIONS: tuple[int, ...] = (1, 2)
+READ_VERSIONS: tuple[int, ...] = (FORMAT_VERSION, SETS_FORMAT_VERSION)
 #: Layer kinds and how many arrays each takes.
 LAYER_ARRAYS: dict[str, int] = {"linear": 2, "relu": 0, "tanh": 0, "batch_renorm": 4}
 #: Output squashes.
@@ -60,9 +62,8 @@ SQUASHES: tuple[str, ...] = ("tanh", "clip")
 MEANING_SETTINGS: tuple[str, ...] = ("obs_scale", "max_stroke", "stroke_spacing")
 
 
-def _check_layers(layers: tuple[str, ...], params: tuple[Array, ...], width: int | None) -> int:
-    """Check a layer stack's arrays (`width`: its input size, None: any); returns its output
-    size."""
+def _check_layers(layers: tuple[str, ...], params: tuple[Array, ...], width: int | None) -> None:
+    """Check a layer stack's arrays (`width`: its input size, None: any)."""
     unknown = [k for k in layers if k not in LAYER_ARRAYS]
     if unknown:
         raise InvalidInputError(f"`layers` must be kinds from {tuple(LAYER_ARRAYS)}, got {unknown}")
@@ -96,7 +97,6 @@ def _check_layers(layers: tuple[str, ...], params: tuple[Array, ...], width: int
                 raise InvalidInputError(f"a batch_renorm layer needs four ({width},) arrays")
             if np.any(arrays[1] < 0):
                 raise InvalidInputError("a batch_renorm layer has a negative variance")
-    return int(width)  # type: ignore[arg-type]
 
 
 def _apply(layers: tuple[str, ...], params: tuple[Array, ...], x: Array, eps: float) -> Array:
@@ -302,7 +302,7 @@ class Actor:
         meta = dict(self.meta)
         meta.pop("sets", None)
         meta.update(
-            format=FORMAT, format_version=2 if self.sets else FORMAT_VERSION,
+            format=FORMAT, format_version=SETS_FORMAT_VERSION if self.sets else FORMAT_VERSION,
             layers=list(self.layers), squash=self.squash, obs_dim=self.obs_dim,
             action_dim=self.action_dim,
         )  # fmt: skip

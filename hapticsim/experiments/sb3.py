@@ -106,8 +106,7 @@ class NativeVecEnv(VecEnv):
         self._actions: np.ndarray | None = None
 
     def reset(self) -> np.ndarray:  # noqa: D102
-        seeds = [s for s in self._seeds] if any(s is not None for s in self._seeds) else None
-        obs, _ = self.venv.reset(seed=seeds)
+        obs, _ = self.venv.reset(seed=list(self._seeds))  # None: an environment's own stream
         self._reset_seeds()
         return obs
 

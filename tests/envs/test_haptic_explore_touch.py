@@ -80,7 +80,8 @@ def test_the_observation_is_the_touch_history() -> None:
     assert points[: len(shown), 6].all() and not points[len(shown) :].any()
     np.testing.assert_allclose(touches[:4, :3], np.array(approaches), atol=1e-6)
     assert touches[:4, 4].all() and not touches[4:].any()
-    assert touches[:4, 3].sum() * 10 == pytest.approx(min(len(contacts.points), 256))
+    shown_in_all = min(len(contacts.points), env.config.base.max_contacts)
+    assert touches[:4, 3].sum() * 10 == pytest.approx(shown_in_all)
     assert obs[HEAD_DIM - 2] == pytest.approx(0.4)  # touches / 10
 
 
