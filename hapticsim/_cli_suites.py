@@ -120,6 +120,7 @@ def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
         args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
         touches=args.touches, seed=args.seed, workers=args.workers, progress=not args.quiet,
         **({} if args.noise is None else {"noise": args.noise}),
+        **({} if args.sensing == "exact" else {"sensing": args.sensing}),
     )  # fmt: skip
     _print_json(result)
     return 0
@@ -157,6 +158,11 @@ def add_policies_parser(sub: Any) -> None:
     p.add_argument(
         "--noise", type=float, default=None,
         help="relative sensor noise sigma_N in [0, 1] (default: the environment's, 0.02)",
+    )  # fmt: skip
+    p.add_argument(
+        "--sensing", choices=("exact", "tactile"), default="exact",
+        help="exact contacts, or contacts estimated from taxel pads (ideal skin; the policies "
+        "also see the pads' images, as on HapticExploreTactile-v0)",
     )  # fmt: skip
     p.add_argument(
         "--workers", type=_positive_int, default=None, help="processes (default: all cores)"

@@ -1,9 +1,12 @@
-"""Train an exploration policy on hapticsim/HapticExploreCompact-v0 or -Touch-v0 and export it.
+"""Train an exploration policy on hapticsim/HapticExploreCompact-v0, -Touch-v0 or
+-TouchTactile-v0 and export it.
 
 Off-policy (SAC, TQC, CrossQ) or on-policy (PPO) learners from stable-baselines3 / sb3-contrib on
 the compact observation of ``HapticExploreCompact-v0`` (``--env compact``, default) or on the
 touch history of ``HapticExploreTouch-v0`` (``--env touch``: contacts, normals and past touches
-as sets, encoded by :class:`hapticsim.experiments.sb3.TouchSetExtractor`), analytic backend,
+as sets, encoded by :class:`hapticsim.experiments.sb3.TouchSetExtractor`) or on the same felt
+through taxel pads, each touch's pad image in its element (``--env touch-tactile``:
+``HapticExploreTouchTactile-v0``, analytic pads, ``ideal`` skin), analytic backend,
 ``--n-envs`` environments in subprocesses (``--vector subproc``) or in hapticsim's native vector
 environment (``--vector native``: one worker process per core), seeded, checkpointed and
 resumable. Every ``--val-every`` steps the current deterministic actor
@@ -45,9 +48,9 @@ from typing import Any
 import numpy as np
 
 ALGOS: tuple[str, ...] = ("sac", "tqc", "crossq", "ppo")
-#: Observations: the compact one (HapticExploreCompact-v0) or the touch history
-#: (HapticExploreTouch-v0).
-ENVS: tuple[str, ...] = ("compact", "touch")
+#: Observations: the compact one (HapticExploreCompact-v0), the touch history
+#: (HapticExploreTouch-v0) or the touch history with pad images (HapticExploreTouchTactile-v0).
+ENVS: tuple[str, ...] = ("compact", "touch", "touch-tactile")
 #: Environment seeds of the validation set: VAL_SEED + i.
 VAL_SEED: int = 10_000
 #: Base of the training environments' seeds.
@@ -60,8 +63,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument(
         "--env", choices=ENVS, default="compact",
         help="observation: 'compact' (HapticExploreCompact-v0, 85 numbers with coverage "
-        "features) or 'touch' (HapticExploreTouch-v0: contacts, normals and touches as sets, "
-        "encoded by a permutation-invariant network)",
+        "features), 'touch' (HapticExploreTouch-v0: contacts, normals and touches as sets, "
+        "encoded by a permutation-invariant network) or 'touch-tactile' "
+        "(HapticExploreTouchTactile-v0: the same felt through taxel pads, each touch's pad "
+        "image in its element)",
     )  # fmt: skip
     p.add_argument(
         "--vector", choices=("subproc", "native"), default="subproc",
@@ -77,7 +82,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--n-epochs", type=int, default=10, help="PPO: epochs per rollout")
     p.add_argument(
         "--set-net", type=int, nargs="+", default=[64, 64],
-        help="--env touch: widths of the per-element network of each set",
+        help="--env touch and touch-tactile: widths of the per-element network of each set",
     )  # fmt: skip
     p.add_argument("--timesteps", type=int, default=300_000, help="environment steps in total")
     p.add_argument("--n-envs", type=int, default=2, help="environments (subprocesses)")
@@ -155,11 +160,14 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
     arch = list(args.net)
     critic = list(args.critic_net or args.net)
     extractor: dict[str, Any] = {}
-    if args.env == "touch":
+    if args.env != "compact":
+        from hapticsim.envs.haptic_explore_touch import SETS, TACTILE_SETS
         from hapticsim.experiments.sb3 import TouchSetExtractor
 
+        sets = TACTILE_SETS if args.env == "touch-tactile" else SETS
         extractor = {"features_extractor_class": TouchSetExtractor,
-                     "features_extractor_kwargs": {"hidden": tuple(args.set_net)}}  # fmt: skip
+                     "features_extractor_kwargs": {"hidden": tuple(args.set_net),
+                                                   "sets": sets}}  # fmt: skip
     if args.algo == "ppo":
         from stable_baselines3 import PPO
 
@@ -238,9 +246,12 @@ def make_vec_env(args: argparse.Namespace, start_step: int) -> Any:
 
 
 def env_id(args: argparse.Namespace) -> str:
-    from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_TOUCH_ID
+    from hapticsim.envs import registration as reg
 
-    return HAPTIC_EXPLORE_TOUCH_ID if args.env == "touch" else HAPTIC_EXPLORE_COMPACT_ID
+    return {
+        "compact": reg.HAPTIC_EXPLORE_COMPACT_ID, "touch": reg.HAPTIC_EXPLORE_TOUCH_ID,
+        "touch-tactile": reg.HAPTIC_EXPLORE_TOUCH_TACTILE_ID,
+    }[args.env]  # fmt: skip
 
 
 def validate(actor: Any, env: Any, episodes: int) -> dict[str, float]:
@@ -296,8 +307,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"--algo {args.algo} needs sb3-contrib: pip install -e '.[rl]'", file=sys.stderr)
             return 2
 
-    from hapticsim.envs.haptic_explore_touch import HapticExploreTouchEnv
-    from hapticsim.envs.haptic_explore_v1 import HapticExploreV1Env
+    import gymnasium as gym
+
     from hapticsim.envs.learned import actor_from_sb3
 
     torch.set_num_threads(args.torch_threads)  # 1: the environments use the other cores
@@ -333,13 +344,11 @@ def main(argv: list[str] | None = None) -> int:
         model = make_model(args, vec)
         run.log(f"started {args.algo}: {command}")
     trained_id = env_id(args)
-    val_env = (HapticExploreTouchEnv if args.env == "touch" else HapticExploreV1Env)(
-        **env_kwargs(args)
-    )
+    val_env = gym.make(trained_id, **env_kwargs(args)).unwrapped
     settings = {
         k: getattr(val_env.config.base, k)
         for k in ("backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",
-                  "position_noise", "max_contacts", "support")
+                  "position_noise", "max_contacts", "support", "sensing")
     }  # fmt: skip
     settings.update(
         objects=args.objects, reward=args.reward, coverage_weight=args.coverage_weight,

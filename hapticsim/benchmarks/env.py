@@ -459,3 +459,109 @@ def benchmark_vector_env(
     }  # fmt: skip
     out["actions"] = "random"
     return out
+
+
+def step_components(
+    backend: str = "analytic", num_envs: int = 8, steps: int = 400, seed: int = 0,
+    **env_kwargs: Any,
+) -> dict[str, np.ndarray]:  # fmt: skip
+    """Where each environment step's time goes, for `num_envs` environments run one after the
+    other (seeds ``seed + i``, random actions, a reset inside the step that needs it).
+
+    Returns:
+        (num_envs, steps) arrays: ``step`` (wall time [s], reset included), ``touch``, ``fit``
+        (the step's timings), ``full`` (bool: the fit was a full one).
+    """
+
+    register_envs()
+    out: dict[str, list[list[Any]]] = {k: [] for k in ("step", "touch", "fit", "full")}
+    for i in range(num_envs):
+        env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
+        env.action_space.seed(seed + i)
+        env.reset(seed=seed + i)
+        for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
+            env.step(env.action_space.sample())
+        env.reset(seed=seed + i)
+        rows: dict[str, list[Any]] = {k: [] for k in out}
+        for _ in range(steps):
+            start = time.perf_counter()
+            _, _, terminated, truncated, info = env.step(env.action_space.sample())
+            if terminated or truncated:
+                env.reset()
+            rows["step"].append(time.perf_counter() - start)
+            rows["touch"].append(info["timings"].touch)
+            rows["fit"].append(info["timings"].fit)
+            rows["full"].append(info["fit_status"] == "full")
+        env.close()
+        for k, v in rows.items():
+            out[k].append(v)
+    return {k: np.asarray(v) for k, v in out.items()}
+
+
+def schedule_estimates(components: dict[str, np.ndarray], shards: int = 2,
+                       job_cost: float = 1e-4) -> dict[str, float]:  # fmt: skip
+    """How busy `shards` cores would be, over the vector steps of these environments' step times,
+    under three ways of running a lockstep vector step.
+
+    Each is the efficiency ``sum of all step times / shards / simulated wall time`` (1: no core
+    ever waits); the speed-up over one environment is about the free-running speed-up times it.
+
+    - ``static``: contiguous shards, each stepping its environments one after the other (the
+      native vector environment today).
+    - ``fit_sharing_full`` / ``fit_sharing_all``: as static, but the full fits (or every fit over
+      0.3 ms) of a vector step go to a common pool once the shard has touched with all its
+      environments; a shard with nothing left takes its own largest pending fit, else another's
+      (paying `job_cost` [s] to be handed a fit, and twice more to move one: there and back),
+      and the owner finishes the step (metrics, observation) when the fit is back.
+    - ``whole_steps``: whole environment steps handed out largest first to whichever core is
+      free (environments that could run anywhere: threads without a GIL).
+
+    Args:
+        components: :func:`step_components`'s arrays.
+        shards: cores (and shards), contiguous blocks of sizes that differ by at most one.
+        job_cost: seconds of one message between processes (a fit handed out, or moved one
+            way).
+    """
+
+    step, touch, fit, full = (np.asarray(components[k]) for k in ("step", "touch", "fit", "full"))
+    post = step - touch - fit
+    n, count = step.shape
+    blocks = np.array_split(np.arange(n), shards)
+    owner = np.concatenate([[w] * len(b) for w, b in enumerate(blocks)])
+
+    def shared(s: int, pooled: np.ndarray) -> float:
+        clock = np.zeros(shards)
+        pending: list[tuple[float, int]] = []
+        for i in range(n):  # each shard touches first; fits not pooled run in place
+            clock[owner[i]] += touch[i, s]
+            if pooled[i]:
+                pending.append((fit[i, s], i))
+            else:
+                clock[owner[i]] += fit[i, s] + post[i, s]
+        pending.sort(reverse=True)
+        back: list[tuple[float, int]] = []
+        while pending:
+            w = int(np.argmin(clock))
+            own = [job for job in pending if owner[job[1]] == w]
+            seconds, i = own[0] if own else pending[0]
+            pending.remove((seconds, i))
+            clock[w] += seconds + job_cost + (0.0 if owner[i] == w else 2 * job_cost)
+            back.append((float(clock[w]), i))
+        for ready, i in sorted(back):
+            clock[owner[i]] = max(clock[owner[i]], ready) + post[i, s]
+        return float(clock.max())
+
+    def whole(s: int) -> float:
+        clock = np.zeros(shards)
+        for seconds in sorted(step[:, s], reverse=True):
+            clock[int(np.argmin(clock))] += seconds
+        return float(clock.max())
+
+    ideal = step.sum() / shards
+    walls = {
+        "static": sum(max(step[b, s].sum() for b in blocks) for s in range(count)),
+        "fit_sharing_full": sum(shared(s, full[:, s]) for s in range(count)),
+        "fit_sharing_all": sum(shared(s, fit[:, s] > 3e-4) for s in range(count)),
+        "whole_steps": sum(whole(s) for s in range(count)),
+    }
+    return {k: float(ideal / v) for k, v in walls.items()}

@@ -1,8 +1,11 @@
-"""``hapticsim/HapticExploreTouch-v0``: the compact task, observed as the touch history itself.
+"""``hapticsim/HapticExploreTouch-v0``: the compact task, observed as the touch history itself;
+``hapticsim/HapticExploreTouchTactile-v0``: the same felt through taxel pads, each touch's pad
+image in its set element.
 
-See :class:`HapticExploreTouchEnv`. The observation is made by :class:`TouchObserver` from what
-``HapticExplore-v0`` shows and the agent's own past approaches, so a policy trained here runs on
-a v0 environment too (``hapticsim.envs.policies`` policy ``"learned-touch"``).
+See :class:`HapticExploreTouchEnv` and :class:`HapticExploreTouchTactileEnv`. The observation is
+made by :class:`TouchObserver` from what ``HapticExplore-v0`` (or ``HapticExploreTactile-v0``)
+shows and the agent's own past approaches, so a policy trained here runs on a v0 environment too
+(``hapticsim.envs.policies`` policy ``"learned-touch"``, or ``"learned:PATH"``).
 """
 
 from __future__ import annotations
@@ -13,8 +16,10 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
+from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
 from hapticsim.envs.haptic_explore_v1 import HEAD_DIM, HapticExploreV1Env, observation_head
 from hapticsim.envs.observation import OBS_BOUND
+from hapticsim.errors import InvalidInputError
 
 Array = NDArray[np.float64]
 
@@ -43,6 +48,21 @@ SETS: tuple[tuple[int, int, int], ...] = (
     (TOUCHES_OFFSET, MAX_TOUCHES, TOUCH_WIDTH),
 )
 
+#: Id of the tactile variant.
+TACTILE_ENV_ID: str = "hapticsim/HapticExploreTouchTactile-v0"
+#: Side of a touch's pooled pad image in the tactile observation (TAXEL_GRID x TAXEL_GRID).
+TAXEL_GRID: int = 8
+#: Numbers per touch in the tactile observation: approach (3), contacts it brought / 10, the
+#: pooled image of the pad that felt most, over its largest block (64), present (1).
+TACTILE_TOUCH_WIDTH: int = TOUCH_WIDTH + TAXEL_GRID * TAXEL_GRID
+#: Length of the tactile observation: 17 + 64 x 7 + 16 x 69 = 1,569.
+TACTILE_OBS_DIM: int = TOUCHES_OFFSET + MAX_TOUCHES * TACTILE_TOUCH_WIDTH
+#: The sets of the tactile observation.
+TACTILE_SETS: tuple[tuple[int, int, int], ...] = (
+    (POINTS_OFFSET, MAX_POINTS, POINT_WIDTH),
+    (TOUCHES_OFFSET, MAX_TOUCHES, TACTILE_TOUCH_WIDTH),
+)
+
 
 def point_indices(count: int, limit: int = MAX_POINTS) -> NDArray[np.int64]:
     """Which of `count` contacts are shown: all, or `limit` evenly spread over them (the
@@ -50,6 +70,37 @@ def point_indices(count: int, limit: int = MAX_POINTS) -> NDArray[np.int64]:
     if count <= limit:
         return np.arange(count)
     return np.unique(np.round(np.linspace(0, count - 1, limit)).astype(np.int64))
+
+
+def pool_taxels(images: NDArray[np.floating], grid: int = TAXEL_GRID) -> NDArray[np.float64]:
+    """The pad that felt most, averaged over a `grid` x `grid` of taxel blocks and divided by
+    its largest block: the shape of the contact patch, not how hard the pad pressed.
+
+    Args:
+        images: (pads, rows, cols) float, one reading per taxel (the tactile observation's
+            ``taxels``: pressure / 100 kPa); rows and cols at least `grid`.
+        grid: blocks per side; the blocks' sizes differ by at most one taxel.
+
+    Returns:
+        (grid * grid,) float in [0, 1], the block means row by row over the largest one; zeros
+        when no pad felt anything.
+    """
+
+    x = np.asarray(images, np.float64)
+    if x.ndim != 3 or x.shape[1] < grid or x.shape[2] < grid:
+        raise InvalidInputError(
+            f"taxel images must be (pads, rows, cols) with rows and cols >= {grid}, got {x.shape}"
+        )
+    totals = x.sum(axis=(1, 2))
+    if not np.any(totals > 0):
+        return np.zeros(grid * grid)
+    pad = x[int(np.argmax(totals))]
+    rows = [len(b) for b in np.array_split(np.arange(pad.shape[0]), grid)]
+    cols = [len(b) for b in np.array_split(np.arange(pad.shape[1]), grid)]
+    sums = np.add.reduceat(np.add.reduceat(pad, np.cumsum([0] + rows[:-1]), axis=0),
+                           np.cumsum([0] + cols[:-1]), axis=1)  # fmt: skip
+    means = sums / np.outer(rows, cols)
+    return (means / means.max()).ravel()
 
 
 class TouchObserver:
@@ -68,10 +119,24 @@ class TouchObserver:
 
     The order of a set's elements carries no meaning for a permutation-invariant encoder; the
     contacts are in the order they came, the touches oldest first.
+
+    With ``taxels=True`` (:data:`TACTILE_OBS_DIM` = 1,569 entries, sets :data:`TACTILE_SETS`) a
+    touch's element is (approach x, y, z, contacts it brought / 10, 64 taxel blocks, present):
+    the pad that felt most at the touch's last contact (v0's tactile ``taxels``), averaged over
+    8 x 8 blocks and divided by the largest (:func:`pool_taxels`: the patch's shape); zeros for a
+    touch that brought no contact.
+
+    Args:
+        taxels: put each touch's pad image in its element (needs v0 observations with
+            ``taxels``: ``hapticsim/HapticExploreTactile-v0``).
     """
 
-    def __init__(self) -> None:
-        self._touches: list[tuple[float, float, float, float]] = []
+    def __init__(self, taxels: bool = False) -> None:
+        self.taxels = bool(taxels)
+        self.touch_width = TACTILE_TOUCH_WIDTH if self.taxels else TOUCH_WIDTH
+        self.obs_dim = TACTILE_OBS_DIM if self.taxels else OBS_DIM
+        self.sets = TACTILE_SETS if self.taxels else SETS
+        self._touches: list[NDArray[np.float64]] = []
         self._count = 0
 
     def reset(self, obs: dict[str, np.ndarray]) -> NDArray[np.float32]:
@@ -83,16 +148,24 @@ class TouchObserver:
     def update(self, obs: dict[str, np.ndarray], approach: Array) -> NDArray[np.float32]:
         """The touch observation after a touch along `approach` (unit, object-centred)."""
         count = int(np.sum(obs["mask"]))
-        a = np.asarray(approach, np.float64)
-        self._touches.append(
-            (float(a[0]), float(a[1]), float(a[2]), (count - self._count) / TOUCH_CONTACT_SCALE)
-        )
+        element = np.zeros(self.touch_width - 1)
+        element[0:3] = np.asarray(approach, np.float64)
+        element[3] = (count - self._count) / TOUCH_CONTACT_SCALE
+        if self.taxels:
+            if "taxels" not in obs:
+                raise InvalidInputError(
+                    "the tactile touch observation needs the pads' images (`taxels`): observe "
+                    "hapticsim/HapticExploreTactile-v0 (sensing 'tactile')"
+                )
+            if count > self._count:  # the touch brought contacts: its pad image
+                element[4:] = pool_taxels(obs["taxels"])
+        self._touches.append(element)
         self._count = count
         return self.features(obs)
 
     def features(self, obs: dict[str, np.ndarray]) -> NDArray[np.float32]:
         """The touch observation of a v0 observation (with this episode's touches)."""
-        out = np.zeros(OBS_DIM, np.float64)
+        out = np.zeros(self.obs_dim, np.float64)
         out[:HEAD_DIM] = observation_head(obs)
         mask = np.asarray(obs["mask"], bool)
         points = np.asarray(obs["points"], np.float64)[mask]
@@ -103,10 +176,10 @@ class TouchObserver:
         block[: len(keep), 3:6] = normals[keep]
         block[: len(keep), 6] = 1.0
         touches = self._touches[-MAX_TOUCHES:]
-        block = out[TOUCHES_OFFSET:].reshape(MAX_TOUCHES, TOUCH_WIDTH)
+        block = out[TOUCHES_OFFSET:].reshape(MAX_TOUCHES, self.touch_width)
         if touches:
-            block[: len(touches), 0:4] = np.asarray(touches)
-            block[: len(touches), 4] = 1.0
+            block[: len(touches), :-1] = np.asarray(touches)
+            block[: len(touches), -1] = 1.0
         return np.clip(out, -OBS_BOUND, OBS_BOUND).astype(np.float32)
 
 
@@ -142,13 +215,48 @@ class HapticExploreTouchEnv(HapticExploreV1Env):
         return self.touch_observer.update(obs, approach)
 
 
+class HapticExploreTouchTactileEnv(HapticExploreTouchEnv):
+    """:class:`HapticExploreTouchEnv`'s task felt through taxel pads (``sensing="tactile"``),
+    each touch's pad image in its set element.
+
+    Contacts are estimated from the pads, as in ``hapticsim/HapticExploreTactile-v0`` (which
+    runs inside: ``skin`` and the other tactile settings as there); the observation is the
+    touch history of :class:`TouchObserver` with ``taxels=True``.
+
+    ## Observation space
+
+    ``Box(-10, 10, (1569,), float32)``: 17 head entries, 64 contacts x 7, 16 touches x 69
+    (approach, contacts it brought / 10, the pad that felt most pooled to 8 x 8 blocks over
+    the largest, present). Sets: :data:`TACTILE_SETS`. No ground truth.
+
+    ## Version history
+
+    - v0: initial version.
+    """
+
+    base_class = HapticExploreTactileEnv
+
+    def __init__(self, render_mode: str | None = None, config: Any = None, **kwargs: Any) -> None:
+        if config is None:
+            kwargs.setdefault("sensing", "tactile")
+        super().__init__(render_mode=render_mode, config=config, **kwargs)
+        self.touch_observer = TouchObserver(taxels=True)
+        self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (TACTILE_OBS_DIM,), np.float32)
+
+
 __all__ = [
     "ENV_ID",
     "HapticExploreTouchEnv",
+    "HapticExploreTouchTactileEnv",
     "MAX_POINTS",
     "MAX_TOUCHES",
     "OBS_DIM",
     "SETS",
+    "TACTILE_ENV_ID",
+    "TACTILE_OBS_DIM",
+    "TACTILE_SETS",
+    "TAXEL_GRID",
     "TouchObserver",
     "point_indices",
+    "pool_taxels",
 ]

@@ -355,6 +355,8 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
+    #: The v0 environment that runs inside (:attr:`base`).
+    base_class: type[HapticExploreEnv] = HapticExploreEnv
 
     def __init__(
         self,
@@ -369,7 +371,7 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
                 f"`config` must be a HapticExploreV1Config, got {type(config).__name__}"
             )
         self.config = config if config is not None else HapticExploreV1Config.from_kwargs(**kwargs)
-        self.base = HapticExploreEnv(render_mode=render_mode, config=self.config.base)
+        self.base = self.base_class(render_mode=render_mode, config=self.config.base)
         self.render_mode = render_mode
         self.n_fingers = self.base.n_fingers
         self.observer = CompactObserver(self.config.base.obs_scale)

@@ -24,7 +24,9 @@ stroke length, finger count, budget), never the ground truth:
   from the touch history itself (``hapticsim/HapticExploreTouch-v0``'s observation,
   :class:`~hapticsim.envs.haptic_explore_touch.TouchObserver`: contacts, normals and past
   touches encoded by a permutation-invariant network; ``docs/policies/learned_touch/``); a
-  weight file trained on either observation runs as ``"learned:PATH"``.
+  weight file trained on any of these observations (or on
+  ``hapticsim/HapticExploreTouchTactile-v0``'s, which adds each touch's pad image and runs on
+  tactile environments only) runs as ``"learned:PATH"``.
 
 All take ``rng`` (seed or generator) and are deterministic given it (the learned policy is
 deterministic and ignores it).
@@ -79,6 +81,10 @@ LEARNED_TOUCH_WEIGHTS: Path = Path(__file__).with_name("data") / "learned_touch_
 LEARNED_OBSERVATIONS: dict[str, tuple[int, Callable[[float], Any]]] = {
     v1.ENV_ID: (v1.OBS_DIM, v1.CompactObserver),
     touch_env.ENV_ID: (touch_env.OBS_DIM, lambda obs_scale: touch_env.TouchObserver()),
+    touch_env.TACTILE_ENV_ID: (
+        touch_env.TACTILE_OBS_DIM,
+        lambda obs_scale: touch_env.TouchObserver(taxels=True),
+    ),
 }
 
 
@@ -371,8 +377,9 @@ def _distance_to_set(points: Array, contacts: Array) -> Array:
 
 
 class LearnedPolicy(Policy):
-    """A trained actor on the compact observation of ``HapticExploreCompact-v0`` or the touch
-    observation of ``HapticExploreTouch-v0`` (the weight file says which); deterministic.
+    """A trained actor on the compact observation of ``HapticExploreCompact-v0``, the touch
+    observation of ``HapticExploreTouch-v0`` or the tactile one of
+    ``HapticExploreTouchTactile-v0`` (the weight file says which); deterministic.
 
     On a v0 environment (the comparisons, ``hapticsim policies evaluate``, the suites) it makes
     the observation it was trained on itself, with a
@@ -389,7 +396,8 @@ class LearnedPolicy(Policy):
 
     Raises:
         InvalidInputError: a missing or malformed weight file, one trained for another
-            environment, observation or action size, or for other observation or action
+            environment, observation or action size, a tactile actor without tactile sensing,
+            or for other observation or action
             settings than the environment's (``obs_scale``, ``max_stroke``, ``stroke_spacing``);
             an environment of another observation; the message says what it was trained for.
     """
@@ -421,6 +429,12 @@ class LearnedPolicy(Policy):
                 f"HapticExplore-v0 or on {env_id}"
             )
         self.observer = LEARNED_OBSERVATIONS[env_id][1](self.config.obs_scale)
+        if getattr(self.observer, "taxels", False) and self.config.sensing != "tactile":
+            raise InvalidInputError(
+                f"the policy was trained for {env_id}, which feels the pads' images: run it on "
+                f"HapticExploreTactile-v0 (sensing 'tactile') or on {env_id}, not with sensing "
+                f"{self.config.sensing!r}"
+            )
         self._last: Array | None = None
 
     @property

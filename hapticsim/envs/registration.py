@@ -17,7 +17,10 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
   environment of its own name, another observation (SPEC §8);
 - ``hapticsim/HapticExploreTouch-v0``: the compact task observed as the touch history itself
   (contacts, normals and past touches as sets for a permutation-invariant encoder, no coverage
-  features; :class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchEnv`).
+  features; :class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchEnv`);
+- ``hapticsim/HapticExploreTouchTactile-v0``: the same felt through taxel pads, each touch's pad
+  image in its set element
+  (:class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchTactileEnv`).
 
 Each id's vector entry point is :class:`~hapticsim.envs.vector.HapticVectorEnv`: ``gym.make_vec(
 env_id, num_envs=N)`` steps the N environments in one worker process per CPU core, not one per
@@ -53,6 +56,12 @@ HAPTIC_EXPLORE_TACTILE_ENTRY_POINT: str = (
 HAPTIC_EXPLORE_TOUCH_ID: str = "hapticsim/HapticExploreTouch-v0"
 #: Its string entry point.
 HAPTIC_EXPLORE_TOUCH_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_touch:HapticExploreTouchEnv"
+#: Id of the touch-history variant felt through taxel pads (pad images in the touch set).
+HAPTIC_EXPLORE_TOUCH_TACTILE_ID: str = "hapticsim/HapticExploreTouchTactile-v0"
+#: Its string entry point.
+HAPTIC_EXPLORE_TOUCH_TACTILE_ENTRY_POINT: str = (
+    "hapticsim.envs.haptic_explore_touch:HapticExploreTouchTactileEnv"
+)
 
 
 def canonical_id(env_id: str) -> str:
@@ -83,7 +92,8 @@ def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: 
 
 def register_envs() -> None:
     """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0``,
-    ``hapticsim/HapticExploreTactile-v0`` and ``hapticsim/HapticExploreTouch-v0``, and the
+    ``hapticsim/HapticExploreTactile-v0``, ``hapticsim/HapticExploreTouch-v0`` and
+    ``hapticsim/HapticExploreTouchTactile-v0``, and the
     renamed ids (:data:`RENAMED_IDS`); calling
     it again does nothing."""
 
@@ -101,6 +111,7 @@ def register_envs() -> None:
         (HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_COMPACT_ENTRY_POINT),
         (HAPTIC_EXPLORE_TACTILE_ID, HAPTIC_EXPLORE_TACTILE_ENTRY_POINT),
         (HAPTIC_EXPLORE_TOUCH_ID, HAPTIC_EXPLORE_TOUCH_ENTRY_POINT),
+        (HAPTIC_EXPLORE_TOUCH_TACTILE_ID, HAPTIC_EXPLORE_TOUCH_TACTILE_ENTRY_POINT),
     ):
         if env_id in registry:
             continue

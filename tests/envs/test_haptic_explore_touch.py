@@ -38,8 +38,11 @@ FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
 KW = {"backend": "analytic", "objects": "random", "fit": FAST_FIT, "touch_budget": 5}
 
 
-def random_set_actor(seed: int = 0, env_id: str = ENV_ID) -> Actor:
-    """A touch actor of random weights (float32 values, as stored)."""
+def random_set_actor(
+    seed: int = 0, env_id: str = ENV_ID, sets: tuple[tuple[int, int, int], ...] = SETS
+) -> Actor:
+    """A touch actor of random weights (float32 values, as stored), for the observation whose
+    sets are `sets`."""
     rng = np.random.default_rng(seed)
 
     def mlp(widths: list[int]) -> tuple[tuple[str, ...], tuple[np.ndarray, ...]]:
@@ -51,13 +54,13 @@ def random_set_actor(seed: int = 0, env_id: str = ENV_ID) -> Actor:
                        rng.normal(size=b).astype(np.float32)]  # fmt: skip
         return tuple(kinds), tuple(arrays)
 
-    sets = tuple(SetEncoder(o, c, w, *mlp([w - 1, 6, 4])) for o, c, w in SETS)
-    kinds, arrays = mlp([HEAD_DIM + 2 * 4 * len(SETS), 8])
+    encoders = tuple(SetEncoder(o, c, w, *mlp([w - 1, 6, 4])) for o, c, w in sets)
+    kinds, arrays = mlp([HEAD_DIM + 2 * 4 * len(sets), 8])
     kinds += ("linear",)
     arrays += (rng.normal(size=(ACTION_DIM_V1, 8)).astype(np.float32),
                rng.normal(size=ACTION_DIM_V1).astype(np.float32))  # fmt: skip
     meta = {"env_id": env_id, "settings": dict(SETTINGS)}
-    return Actor(kinds, arrays, "clip", meta, sets)
+    return Actor(kinds, arrays, "clip", meta, encoders)
 
 
 def test_the_observation_is_the_touch_history() -> None:
