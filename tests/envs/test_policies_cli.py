@@ -104,3 +104,22 @@ def test_noise_reaches_the_environment(capsys) -> None:  # noqa: ANN001
         assert code == 0
         runs[noise] = json.loads(out)["episodes_epsilon"][0]
     assert runs["0"] != runs["0.1"]
+
+
+def test_tactile_sensing_runs_tactile_actors_and_exact_refuses_them(capsys, tmp_path) -> None:  # noqa: ANN001
+    from hapticsim.envs.haptic_explore_touch import TACTILE_ENV_ID, TACTILE_SETS
+    from tests.envs.test_haptic_explore_touch import random_set_actor
+
+    path = random_set_actor(env_id=TACTILE_ENV_ID, sets=TACTILE_SETS).save(tmp_path / "t.npz")
+    code, out, err = run_cli(capsys, "--policy", f"learned:{path}", "--quiet")
+    assert code == 2 and out == "" and "feels the pads' images" in err
+    runs = {}
+    for sensing in ("exact", "tactile"):
+        code, out, _ = run_cli(capsys, "--policy", "random", "--episodes", "1", "--touches", "8",
+                               "--workers", "1", "--sensing", sensing, "--quiet")  # fmt: skip
+        assert code == 0
+        runs[sensing] = json.loads(out)["episodes_epsilon"][0]
+    assert runs["exact"] != runs["tactile"]  # the pads' estimates are not the exact contacts
+    code, out, _ = run_cli(capsys, "--policy", f"learned:{path}", "--episodes", "1", "--touches",
+                           "3", "--workers", "1", "--sensing", "tactile", "--quiet")  # fmt: skip
+    assert code == 0 and len(json.loads(out)["episodes_epsilon"][0]) == 3

@@ -240,3 +240,28 @@ def test_each_environment_gives_what_it_gives_alone() -> None:
     env.close()
     for x, y in zip(batch, alone, strict=True):
         np.testing.assert_array_equal(x, y)
+
+
+def test_schedule_estimates_by_hand() -> None:
+    """Two shards of two environments; the first shard's two steps each have an 8 s full fit."""
+    from hapticsim.benchmarks.env import schedule_estimates
+
+    parts = {
+        "step": np.array([[10.0], [10.0], [2.0], [2.0]]),
+        "touch": np.ones((4, 1)),
+        "fit": np.array([[8.0], [8.0], [0.5], [0.5]]),
+        "full": np.array([[True], [True], [False], [False]]),
+    }
+    # static: shard 0 takes 20 s against an ideal 12 s
+    # sharing: shard 0 touches twice (2 s) and fits env 0 (10 s), shard 1 finishes its own steps
+    # (4 s) and fits env 1 (12 s); env 1's metrics then wait for it: 13 s
+    # whole steps: 10 + 2 on each core
+    got = schedule_estimates(parts, shards=2, job_cost=0.0)
+    assert got["static"] == pytest.approx(12 / 20)
+    assert got["fit_sharing_full"] == pytest.approx(12 / 13)
+    # every fit pooled: shard 1 fits its own two (3 s), then env 0's (11 s), and all finish by 12
+    assert got["fit_sharing_all"] == pytest.approx(1.0)
+    assert got["whole_steps"] == pytest.approx(1.0)
+    # a message costs 0.5 s: shard 0 is handed its fit (10.5 s), shard 1 is handed env 1's and
+    # sends it back (4 + 8 + 1.5 = 13.5 s); env 1 finishes at 14.5 s
+    assert schedule_estimates(parts, 2, 0.5)["fit_sharing_full"] == pytest.approx(12 / 14.5)
