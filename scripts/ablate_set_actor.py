@@ -5,7 +5,9 @@ Each copy of the actor is blind to one part of its observation, by weights alone
 - ``no-points``: the contact set's pooled features are zero (its network's last layer zeroed);
 - ``no-touches``: the same for the set of past touches;
 - ``no-head``: the first layer above the encoders ignores the fit, its error and the counts
-  (their columns zeroed).
+  (their columns zeroed);
+- ``no-taxels`` (actors of ``HapticExploreTouchTactile-v0`` only): the touch set's network
+  ignores each touch's pad image (the columns of its first layer zeroed).
 
 Run them as ``learned:PATH`` on the same episodes as the actor to see what it acts on::
 
@@ -22,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hapticsim.envs.haptic_explore_touch import TACTILE_TOUCH_WIDTH, TOUCH_WIDTH
 from hapticsim.envs.learned import Actor, load_actor
 
 
@@ -46,6 +49,18 @@ def blind_head(actor: Actor) -> Actor:
     return Actor(actor.layers, tuple(params), actor.squash, dict(actor.meta), actor.sets)
 
 
+def blind_taxels(actor: Actor) -> Actor:
+    """`actor` with its touch set's network ignoring each touch's pad image."""
+    s = actor.sets[1]
+    params = list(s.params)
+    w = params[0].copy()  # (hidden, element inputs): approach, count, image, [present dropped]
+    w[:, TOUCH_WIDTH - 1 : TACTILE_TOUCH_WIDTH - 1] = 0.0
+    params[0] = w
+    sets = list(actor.sets)
+    sets[1] = replace(s, params=tuple(params))
+    return Actor(actor.layers, actor.params, actor.squash, dict(actor.meta), tuple(sets))
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("weights", type=Path, help="a weight file with set encoders")
@@ -55,8 +70,11 @@ def main(argv: list[str] | None = None) -> int:
     if len(actor.sets) != 2:
         raise SystemExit(f"{args.weights}: expected an actor with two sets, got {len(actor.sets)}")
     args.out.mkdir(parents=True, exist_ok=True)
-    for name, ablated in (("no-points", blind_set(actor, 0)), ("no-touches", blind_set(actor, 1)),
-                          ("no-head", blind_head(actor))):  # fmt: skip
+    copies = [("no-points", blind_set(actor, 0)), ("no-touches", blind_set(actor, 1)),
+              ("no-head", blind_head(actor))]  # fmt: skip
+    if actor.sets[1].width == TACTILE_TOUCH_WIDTH:
+        copies.append(("no-taxels", blind_taxels(actor)))
+    for name, ablated in copies:
         ablated.meta["ablation"] = name
         print(ablated.save(args.out / f"{name}.npz"))
     return 0

@@ -6,6 +6,9 @@ the last touch and the paired two-sided Wilcoxon tests of ``learned-touch`` agai
 uncertainty policy and the shipped ``learned`` one; writes the same as ``summary.json``::
 
     python scripts/learned_touch_table.py docs/policies/learned_touch
+
+``--subject``, ``--policies``, ``--against`` and ``--families`` make the same table of another
+folder (``docs/policies/learned_touch_tactile/commands.sh``).
 """
 
 from __future__ import annotations
@@ -45,24 +48,35 @@ def paired(a: np.ndarray, b: np.ndarray) -> dict[str, Any]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path)
+    parser.add_argument("--subject", default="learned-touch", help="the policy tested")
+    parser.add_argument("--policies", nargs="+", default=list(POLICIES),
+                        help="columns (file suffixes), the subject among them")  # fmt: skip
+    parser.add_argument("--against", nargs="+", default=["uncertainty", "learned"],
+                        help="policies the subject is tested against")  # fmt: skip
+    parser.add_argument("--families", nargs="+", default=None, metavar="NAME=WHAT",
+                        help="rows (default: learned_touch's seven)")  # fmt: skip
     args = parser.parse_args(argv)
+    families = FAMILIES
+    if args.families:
+        families = dict(f.split("=", 1) for f in args.families)
+    subject, against = args.subject, args.against
     rows: dict[str, Any] = {}
     lines = [
-        "| family | learned-touch | (800k) | learned | uncertainty | random | touch vs uncertainty "
-        "| touch vs learned |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    for family, what in FAMILIES.items():
-        eps = {p: final(args.folder / "json" / f"{family}-{p}.json") for p in POLICIES}
-        tests = {b: paired(eps["learned-touch"], eps[b]) for b in ("uncertainty", "learned")}
+        "| family | " + " | ".join(args.policies) + " | "
+        + " | ".join(f"{subject} vs {b}" for b in against) + " |",
+        "|---" * (1 + len(args.policies) + len(against)) + "|",
+    ]  # fmt: skip
+    for family, what in families.items():
+        eps = {p: final(args.folder / "json" / f"{family}-{p}.json") for p in args.policies}
+        tests = {b: paired(eps[subject], eps[b]) for b in against}
         rows[family] = {
             "what": what,
             "mean": {p: float(v.mean()) for p, v in eps.items()},
             "median": {p: float(np.median(v)) for p, v in eps.items()},
-            "learned-touch vs": tests,
+            f"{subject} vs": tests,
         }
-        cells = [f"{eps[p].mean():.4f} ({np.median(eps[p]):.4f})" for p in POLICIES]
-        for b in ("uncertainty", "learned"):
+        cells = [f"{eps[p].mean():.4f} ({np.median(eps[p]):.4f})" for p in args.policies]
+        for b in against:
             t = tests[b]
             cells.append(f"{t['mean_difference']:+.4f}, better in {t['better_in']}/"
                          f"{t['episodes']}, p = {t['p_value']:.2g}")  # fmt: skip
