@@ -73,14 +73,16 @@ def test_training_checkpoints_resumes_and_exports(tmp_path) -> None:  # noqa: AN
 
 
 @pytest.mark.slow
-def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path) -> None:  # noqa: ANN001
+@pytest.mark.parametrize("observation", ["touch", "touch-tactile"])
+def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path, observation: str) -> None:  # noqa: ANN001
     """The recipe of the shipped ``learned-touch`` actor, in small: PPO, the set encoder, the
-    native vector environment; the exported actor runs as a policy on v0."""
+    native vector environment; the exported actor runs as a policy on v0 (the tactile one with
+    its pads' images for ``touch-tactile``)."""
     pytest.importorskip("stable_baselines3")
     pytest.importorskip("torch")
     out = tmp_path / "touch"
     run = train(
-        out, "--algo", "ppo", "--env", "touch", "--vector", "native", "--n-envs", "4",
+        out, "--algo", "ppo", "--env", observation, "--vector", "native", "--n-envs", "4",
         "--n-steps", "64", "--n-epochs", "1", "--batch-size", "64", "--timesteps", "512",
         "--net", "16", "--set-net", "8", "8", "--val-episodes", "2", "--val-every", "256",
         "--checkpoint-every", "512", "--chamfer-samples", "10",
@@ -88,14 +90,18 @@ def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path) -> None: 
     assert run.returncode == 0, run.stderr[-2000:]
     assert json.loads(run.stdout)["steps"] == 512
     from hapticsim.envs.estimator import FitSchedule
-    from hapticsim.envs.haptic_explore_touch import ENV_ID
+    from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
+    from hapticsim.envs.haptic_explore_touch import ENV_ID, TACTILE_ENV_ID
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
     from hapticsim.envs.policies import make_policy, run_episode
 
-    env = HapticExploreEnv(
+    tactile = observation == "touch-tactile"
+    env = (HapticExploreTactileEnv if tactile else HapticExploreEnv)(
         backend="analytic", objects="random", touch_budget=3,
         fit=FitSchedule(full_budget=1000, refine_budget=100),
     )  # fmt: skip
     policy = make_policy(f"learned:{out / 'policy_last.npz'}", env)
-    assert policy.meta["env_id"] == ENV_ID and len(policy.actor.sets) == 2
+    assert policy.meta["env_id"] == (TACTILE_ENV_ID if tactile else ENV_ID)
+    assert len(policy.actor.sets) == 2
+    assert policy.meta["settings"]["sensing"] == ("tactile" if tactile else "exact")
     assert np.all(np.isfinite(run_episode(env, policy, seed=0).epsilon))

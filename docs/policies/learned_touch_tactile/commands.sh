@@ -20,6 +20,7 @@ dir=docs/policies/learned_touch_tactile
 out=$dir/json
 mkdir -p "$out"
 policies=${POLICIES-"tactile learned-touch learned uncertainty random"}
+workers=${WORKERS:-2}  # (the baselines ran with WORKERS=1 beside the training)
 name() {  # the policy argument of a column
   if [ "$1" = tactile ]; then echo "learned:$dir/policy.npz"; else echo "$1"; fi
 }
@@ -27,7 +28,7 @@ run() {  # family, then the evaluate arguments
   local family=$1; shift
   for p in $policies; do
     echo "$family $p" >&2
-    hapticsim policies evaluate --policy "$(name "$p")" --touches 10 --workers 2 --quiet \
+    hapticsim policies evaluate --policy "$(name "$p")" --touches 10 --workers "$workers" --quiet \
       --sensing tactile "$@" > "$out/$family-$p.tmp" && mv "$out/$family-$p.tmp" "$out/$family-$p.json"
   done
 }
