@@ -28,3 +28,20 @@ def test_policy_names() -> None:
     assert not is_policy_strategy("paper") and not is_policy_strategy("learned:")
     with pytest.raises(InvalidInputError, match="`policy` must be one of"):
         run_policy_exploration(get_body("cube"), "sweep", 40)
+
+
+def test_a_tactile_actor_explores_through_the_hands_pads(tmp_path) -> None:  # noqa: ANN001
+    """With tactile sensing the policy sees the pads' images, which a tactile actor needs."""
+    from dataclasses import replace
+
+    from hapticsim.envs.haptic_explore_touch import TACTILE_ENV_ID, TACTILE_SETS
+    from hapticsim.sim.scene import SceneConfig
+    from tests.envs.test_haptic_explore_touch import random_set_actor
+
+    path = random_set_actor(env_id=TACTILE_ENV_ID, sets=TACTILE_SETS).save(tmp_path / "t.npz")
+    tactile = replace(SceneConfig(), sensing="tactile")
+    run = run_policy_exploration(get_body("cube"), f"learned:{path}", 20, rng=0,
+                                 scene_config=tactile, max_touches=40)  # fmt: skip
+    assert run.count == 20 and len(run.tactile["images"]) == 20
+    with pytest.raises(InvalidInputError, match="feels the pads' images"):
+        run_policy_exploration(get_body("cube"), f"learned:{path}", 20, rng=0)
