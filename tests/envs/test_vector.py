@@ -265,3 +265,62 @@ def test_schedule_estimates_by_hand() -> None:
     # a message costs 0.5 s: shard 0 is handed its fit (10.5 s), shard 1 is handed env 1's and
     # sends it back (4 + 8 + 1.5 = 13.5 s); env 1 finishes at 14.5 s
     assert schedule_estimates(parts, 2, 0.5)["fit_sharing_full"] == pytest.approx(12 / 14.5)
+
+
+def test_a_full_fit_moved_to_another_shard_gives_the_same_step() -> None:
+    """The protocol of shared fits, in this process: shard A's full fits run in shard B
+    (``run_fit`` with the job), their outcomes go back (``step_end``); every step equals a plain
+    environment's, bit for bit."""
+    from hapticsim.envs.vector import _Shard
+
+    kwargs = dict(KWARGS, touch_budget=6)
+    a = _Shard(HAPTIC_EXPLORE_ID, kwargs, 1, AutoresetMode.NEXT_STEP, first=0)
+    b = _Shard(HAPTIC_EXPLORE_ID, kwargs, 1, AutoresetMode.NEXT_STEP, first=1)
+    a.make(), b.make()
+    assert a.staged == [True]
+    plain = gym.make(HAPTIC_EXPLORE_ID, **kwargs)
+    a.reset([5], None, [True])
+    b.reset([6], None, [True])
+    plain.reset(seed=5)
+    rng = np.random.default_rng(1)
+    moved = 0
+    for _ in range(12):
+        action = rng.uniform(-1, 1, 5).astype(np.float32)
+        jobs, failed, first = a.step_begin([action])
+        assert not failed and first == (jobs[0][0] if jobs else None)
+        assert (a.take_follow_up() is None) == (not jobs)  # A would run it: B does instead
+        b.step_begin([rng.uniform(-1, 1, 5).astype(np.float32)])
+        b.take_follow_up()
+        outcomes = {index: b.run_fit(index, job) for index, _, job in jobs}
+        moved += len(outcomes)
+        ((obs, reward, terminated, truncated, _, info),) = a.step_end(outcomes)
+        b.step_end({})  # B's own full fits, if any, run in its step_end
+        assert not b._pending
+        want = plain.step(action)
+        if terminated or truncated:
+            plain.reset()
+        np.testing.assert_array_equal(obs["points"], want[0]["points"])
+        np.testing.assert_array_equal(obs["fit"], want[0]["fit"])
+        assert (reward, terminated, truncated) == tuple(want[1:4])
+        assert (info["fit_status"], info["epsilon"]) == (want[4]["fit_status"], want[4]["epsilon"])
+        if terminated or truncated:
+            ((obs_a, *_),) = a.step([action])  # the next-step autoreset
+            assert obs_a["touches"][0] == 0 and not a.autoreset[0]
+    assert moved >= 2  # the first fit and at least one more were full
+    for shard in (a, b):
+        shard.close()
+
+
+def test_shared_fits_match_sync_and_some_move() -> None:
+    sync = _rollout(gym.make_vec(HAPTIC_EXPLORE_ID, 6, vectorization_mode="sync", **KWARGS), 16)
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 6, workers=2, **KWARGS)
+    assert envs.share_fits
+    shared = _rollout(envs, 16)
+    _assert_same(sync, shared)
+    assert envs.fits_shared >= 6  # every first fit is full
+    unshared = gym.make_vec(HAPTIC_EXPLORE_ID, 6, workers=2, share_fits=False, **KWARGS)
+    assert not unshared.share_fits
+    _assert_same(sync, _rollout(unshared, 16))
+    assert unshared.fits_shared == 0
+    with pytest.raises(InvalidInputError, match="`share_fits` must be True or False"):
+        HapticVectorEnv(HAPTIC_EXPLORE_ID, 2, share_fits="yes", **KWARGS)
