@@ -279,7 +279,7 @@ def shard_estimate(step_seconds: Any, reset_seconds: Any, num_envs: int, shards:
 
 
 #: Vector environments :func:`benchmark_vector_env` can time.
-VECTOR_VARIANTS: tuple[str, ...] = ("native", "unshared", "async", "threads")
+VECTOR_VARIANTS: tuple[str, ...] = ("native", "async", "threads")
 
 
 def _thread_rate(backend: str, num_envs: int, steps: int, seed: int,
@@ -314,11 +314,10 @@ def _parse_variant(variant: str) -> tuple[str, int | None]:
     kind, _, count = variant.partition(":")
     if kind in VECTOR_VARIANTS and not count:
         return kind, None
-    if kind in ("native", "unshared") and count.isdigit():
+    if kind == "native" and count.isdigit():
         return kind, int(count)
     raise InvalidInputError(
-        f"`variants` must be among {VECTOR_VARIANTS}, 'native:W' or 'unshared:W', got "
-        f"{variant!r}"
+        f"`variants` must be among {VECTOR_VARIANTS} or 'native:W', got {variant!r}"
     )
 
 
@@ -330,10 +329,10 @@ def _vector_rate(
     kind, own_workers = _parse_variant(variant)
     if kind == "threads":
         return _thread_rate(backend, num_envs, steps, seed, env_kwargs)
-    if kind in ("native", "unshared"):
+    if kind == "native":
         workers = workers if own_workers is None else own_workers
         vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, backend=backend,
-                           workers=workers, share_fits=kind == "native", **env_kwargs)  # fmt: skip
+                           workers=workers, **env_kwargs)  # fmt: skip
     else:
         vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async",
                            backend=backend, **env_kwargs)  # fmt: skip
@@ -369,8 +368,7 @@ def benchmark_vector_env(
     vector environment resets itself), so that their ratios are measured under the same machine
     load; the medians are reported. Variants: ``"native"``, hapticsim's vector environment
     (:class:`~hapticsim.envs.vector.HapticVectorEnv`, `workers` processes of N / workers
-    environments each, full fits shared between them); ``"unshared"``, the same without sharing
-    fits (``share_fits=False``); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
+    environments each); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
     environment); ``"threads"``, the N environments in this process, stepped by a pool of one
     thread per core (no vector environment of ours: how far the GIL lets threads go). Optionally
     also two independent single environments in two processes at once
@@ -384,8 +382,8 @@ def benchmark_vector_env(
         num_envs: environments of the vector environments, >= 1.
         steps: environment steps to time in each (``steps / num_envs`` vector steps).
         seed: seed of the environments and actions.
-        variants: vector environments to time (:data:`VECTOR_VARIANTS`; ``"native:W"`` and
-            ``"unshared:W"`` are the native one with W workers).
+        variants: vector environments to time (:data:`VECTOR_VARIANTS`; ``"native:W"`` is
+            the native one with W workers).
         workers: worker processes of ``"native"`` (None: one per core).
         repeats: rounds of single + variants, >= 1.
         free_running: also time two free-running processes.

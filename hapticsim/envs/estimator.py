@@ -17,9 +17,7 @@ agree with the estimate as well as the old ones cause no refit at all.
 from __future__ import annotations
 
 import time
-from collections.abc import Generator
 from dataclasses import dataclass
-from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -130,82 +128,6 @@ class FitUpdate:
             object.__setattr__(self, "solid", self.estimate)
 
 
-@dataclass(frozen=True)
-class FitOutcome:
-    """What running a :class:`FitJob` gave.
-
-    Attributes:
-        result: the fit (:class:`~hapticsim.fitting.result.FitResult`), None when it failed.
-        message: the fitter's complaint when it failed.
-        seconds: wall-clock time of the fit [s].
-    """
-
-    result: Any
-    message: str = ""
-    seconds: float = 0.0
-
-
-@dataclass(frozen=True, eq=False)
-class FitJob:
-    """A fit that an :meth:`IncrementalFitter.plan` asks for: a pure function of its fields, so
-    it gives the same result wherever it runs (a vector environment runs its environments' full
-    fits on whichever worker is free).
-
-    Attributes:
-        points, normals: (n, 3) float, the contacts to fit.
-        method: the method (SPEC §3).
-        budget: the evaluation budget (None: the fitter's default).
-        seed: the fitter's seed.
-        initial: the estimate to start from (None: none).
-        full: a full fit (else a refinement).
-        planned_seconds: wall-clock time the plan took [s].
-    """
-
-    points: Array
-    normals: Array
-    method: str
-    budget: int | None
-    seed: int
-    initial: Superquadric | None
-    full: bool
-    planned_seconds: float = 0.0
-
-    @property
-    def cost(self) -> float:
-        """A rough size of the fit, to run the largest first: budget x contacts."""
-        return float((self.budget or 7500) * len(self.points))
-
-    def run(self) -> FitOutcome:
-        """Run the fit; a fitter's error is returned as the outcome's message, not raised."""
-        from hapticsim.fitting import fit
-
-        start = time.perf_counter()
-        try:
-            result = fit(
-                self.points, self.normals, method=self.method, budget=self.budget,
-                rng=self.seed, initial=self.initial,
-            )  # fmt: skip
-        except HapticsimError as exc:
-            return FitOutcome(None, str(exc), time.perf_counter() - start)
-        return FitOutcome(result, "", time.perf_counter() - start)
-
-
-Result = TypeVar("Result")
-#: A step in stages (``step_stages``): yields the fits it needs, is sent their outcomes, and
-#: returns what ``step`` returns.
-Stages = Generator[FitJob, FitOutcome, Result]
-
-
-def run_stages(stages: Stages[Result]) -> Result:
-    """Run a step in stages here: each fit it asks for, in turn; returns the step's value."""
-    try:
-        job = next(stages)
-        while True:
-            job = stages.send(job.run())
-    except StopIteration as done:
-        return done.value
-
-
 class IncrementalFitter:
     """Keeps the estimate of one episode up to date as contacts arrive.
 
@@ -234,7 +156,7 @@ class IncrementalFitter:
     def update(
         self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: int = 1
     ) -> FitUpdate:
-        """Refit after a touch (:meth:`plan`, the fit it asks for, :meth:`finish`).
+        """Refit after a touch.
 
         Args:
             points: (n, 3) float, all contacts so far [m, world].
@@ -246,17 +168,8 @@ class IncrementalFitter:
         Returns:
             the update.
         """
-        plan = self.plan(points, normals, rng, new_contacts)
-        if isinstance(plan, FitUpdate):
-            return plan
-        return self.finish(plan, plan.run())
+        from hapticsim.fitting import fit
 
-    def plan(
-        self, points: Array, normals: Array, rng: np.random.Generator, new_contacts: int = 1
-    ) -> FitUpdate | FitJob:
-        """The first half of :meth:`update`: the update itself when it needs no fit (too few
-        contacts, a kept estimate), else the fit it needs, for :meth:`finish` with its outcome
-        (arguments as :meth:`update`)."""
         start = time.perf_counter()
         sched = self.schedule
         if len(points) < sched.min_contacts:
@@ -276,29 +189,25 @@ class IncrementalFitter:
                 return FitUpdate(self.estimate, self.eof, "kept", 1, time.perf_counter() - start,
                                  solid=self.solid)  # fmt: skip
         seed = int(rng.integers(2**31 - 1))
-        return FitJob(
-            points, normals, sched.method if full else sched.refine_method,
-            sched.full_budget if full else sched.refine_budget, seed, self.estimate, full,
-            time.perf_counter() - start,
-        )  # fmt: skip
-
-    def finish(self, job: FitJob, outcome: FitOutcome) -> FitUpdate:
-        """The second half of :meth:`update`: take the outcome of the fit :meth:`plan` asked
-        for (run here or anywhere else)."""
-        seconds = job.planned_seconds + outcome.seconds
-        result = outcome.result
-        if result is None:
-            return FitUpdate(
-                self.estimate, self.eof, "failed", 0, seconds, outcome.message, self.solid
+        method = sched.method if full else sched.refine_method
+        budget = sched.full_budget if full else sched.refine_budget
+        try:
+            result = fit(
+                points, normals, method=method, budget=budget, rng=seed, initial=self.estimate
             )
-        if job.full:
+        except HapticsimError as exc:
+            return FitUpdate(
+                self.estimate, self.eof, "failed", 0, time.perf_counter() - start, str(exc),
+                self.solid,
+            )  # fmt: skip
+        if full:
             self._touches_since_full = 0
         self.estimate = result.superquadric
         # multi's union stays until its next full fit; a single superquadric is its own solid
-        if job.full or self.schedule.method != "multi":
+        if full or sched.method != "multi":
             self.solid = result.solid
         self.eof = float(result.eof)
         return FitUpdate(
-            self.estimate, self.eof, "full" if job.full else "refine", int(result.evaluations),
-            seconds, solid=self.solid,
+            self.estimate, self.eof, "full" if full else "refine", int(result.evaluations),
+            time.perf_counter() - start, solid=self.solid,
         )  # fmt: skip

@@ -19,14 +19,7 @@ from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.data.io import Contacts
 from hapticsim.envs.backends import BACKENDS, make_backend
-from hapticsim.envs.estimator import (
-    FitJob,
-    FitSchedule,
-    FitUpdate,
-    IncrementalFitter,
-    Stages,
-    run_stages,
-)
+from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchResult, decode_action
@@ -454,16 +447,6 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self, action: np.ndarray
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """One touch, a refit and the reward (see the class docstring)."""
-        return run_stages(self.step_stages(action))
-
-    def step_stages(
-        self, action: np.ndarray
-    ) -> Stages[tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]]:
-        """:meth:`step` in stages: a generator that yields the fit the step needs (a
-        :class:`~hapticsim.envs.estimator.FitJob`, if any), takes its outcome back (``send``)
-        and returns what :meth:`step` returns. ``step`` runs the fit here; the native vector
-        environment runs its environments' full fits on whichever worker is free, with the same
-        results."""
         if self._truth is None:
             raise InvalidInputError("call `reset` before `step`")
         start = time.perf_counter()
@@ -483,10 +466,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._touches += 1
 
         pts, nrm = self._stacked()
-        plan = self._fitter.plan(pts, nrm, self._fit_rng, new_contacts=len(result))
-        if isinstance(plan, FitJob):
-            plan = self._fitter.finish(plan, (yield plan))
-        self._update = plan
+        self._update = self._fitter.update(pts, nrm, self._fit_rng, new_contacts=len(result))
         metric_start = time.perf_counter()
         if self.config.compute_metrics:
             self._metrics = self._score(self._update.solid)

@@ -17,7 +17,7 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array
-from hapticsim.envs.estimator import FitSchedule, Stages, run_stages
+from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
 from hapticsim.envs.observation import OBS_BOUND, decode_fit
 from hapticsim.envs.touch import encode_touch
@@ -415,19 +415,12 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One touch (v0's step on the mapped action), the compact observation and reward."""
-        return run_stages(self.step_stages(action))
-
-    def step_stages(
-        self, action: np.ndarray
-    ) -> Stages[tuple[np.ndarray, float, bool, bool, dict[str, Any]]]:
-        """:meth:`step` in stages (as v0's
-        :meth:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv.step_stages`)."""
         if self.base.truth is None:
             raise InvalidInputError("call `reset` before `step`")
         act, approach = v0_action(
             action, self._touches, self.config.base.max_stroke, self.n_fingers
         )
-        obs, _, terminated, truncated, info = yield from self.base.step_stages(act)
+        obs, _, terminated, truncated, info = self.base.step(act)
         self._touches += 1
         eps = float(info["epsilon"])
         if self.config.reward == "log_epsilon":

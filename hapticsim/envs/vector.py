@@ -25,17 +25,15 @@ import multiprocessing
 import os
 import traceback
 from copy import deepcopy
-from multiprocessing.connection import Connection, wait
+from multiprocessing.connection import Connection
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array, iterate
-from gymnasium.wrappers import OrderEnforcing, PassiveEnvChecker
 
 from hapticsim._validate import positive_int
-from hapticsim.envs.estimator import FitJob, FitOutcome
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.parallel.base import RemoteTraceback, limit_threads
 
@@ -50,20 +48,6 @@ CLOSE_TIMEOUT: float = 10.0
 
 class VectorEnvError(HapticsimError):
     """An environment of a :class:`HapticVectorEnv` failed, or its worker died."""
-
-
-#: Wrappers of ``gym.make`` that change nothing a step returns: an environment wrapped in these
-#: alone can be stepped in stages (its full fits shared between the workers).
-_PASSTHROUGH_WRAPPERS: tuple[type, ...] = (OrderEnforcing, PassiveEnvChecker)
-
-
-def _stepped_in_stages(env: gym.Env) -> bool:
-    """Whether `env` steps in stages (``step_stages``) behind pass-through wrappers only."""
-    while isinstance(env, gym.Wrapper):
-        if type(env) not in _PASSTHROUGH_WRAPPERS:
-            return False
-        env = env.env
-    return callable(getattr(env, "step_stages", None))
 
 
 def default_workers(num_envs: int) -> int:
@@ -101,20 +85,12 @@ class _Shard:
         self.mode = mode
         self.autoreset = [False] * size
         self._sent: list[dict[str, Any]] = [{} for _ in range(size)]
-        self.staged: list[bool] = []  # steps in stages (its full fits can be shared)
-        # a step in stages: each environment's result, its stages waiting for a full fit, and
-        # the first error (environment index, exception)
-        self._results: list[Any] = []
-        self._pending: dict[int, tuple[Any, FitJob]] = {}
-        self._error: tuple[int, BaseException] | None = None
-        self._follow_up: int | None = None  # the own fit to run right after step_begin's answer
 
     def make(self) -> list[None]:
         """Make the shard's environments (``gym.make``, as Gymnasium's SyncVectorEnv does)."""
         for j in range(self.size):
             self.current = self.first + j
             self.envs.append(gym.make(self.env_id, **self.kwargs))
-            self.staged.append(_stepped_in_stages(self.envs[-1]))
         return []
 
     def _pack(self, j: int, info: dict[str, Any]) -> dict[str, Any]:
@@ -141,130 +117,27 @@ class _Shard:
 
     def _step_one(self, j: int, action: Any) -> tuple:
         env = self.envs[j]
+        extra: dict[str, Any] = {}
         if self.mode == AutoresetMode.NEXT_STEP and self.autoreset[j]:
             obs, info = env.reset()
-            self.autoreset[j] = False
-            return obs, 0.0, False, False, {}, info
-        return self._stepped(j, env.step(action))
-
-    def _stepped(self, j: int, result: tuple) -> tuple:
-        """A step's result, autoreset as the mode says: (obs, reward, terminated, truncated,
-        extra, info)."""
-        obs, reward, terminated, truncated, info = result
-        extra: dict[str, Any] = {}
-        if self.mode == AutoresetMode.SAME_STEP and (terminated or truncated):
-            extra = {"final_obs": obs, "final_info": info}
-            obs, info = self.envs[j].reset()
+            reward, terminated, truncated = 0.0, False, False
+        else:
+            obs, reward, terminated, truncated, info = env.step(action)
+            if self.mode == AutoresetMode.SAME_STEP and (terminated or truncated):
+                extra = {"final_obs": obs, "final_info": info}
+                obs, info = env.reset()
         self.autoreset[j] = bool(terminated or truncated)
         return obs, float(reward), bool(terminated), bool(truncated), extra, info
-
-    def _packed(self, j: int, stepped: tuple) -> tuple:
-        obs, reward, terminated, truncated, extra, info = stepped
-        if extra:
-            extra["final_info"] = self._pack(j, extra["final_info"])
-        return obs, reward, terminated, truncated, extra, self._pack(j, info)
 
     def step(self, actions: Any):
         out = []
         for j, action in enumerate(actions):
             self.current = self.first + j
-            out.append(self._packed(j, self._step_one(j, action)))
+            obs, reward, terminated, truncated, extra, info = self._step_one(j, action)
+            if extra:
+                extra["final_info"] = self._pack(j, extra["final_info"])
+            out.append((obs, reward, terminated, truncated, extra, self._pack(j, info)))
         return out
-
-    # -------------------------------------------------------------- steps with shared fits
-    # step_begin, then run_fit as the vector environment hands out the full fits, then
-    # step_end. Errors are kept, and raised by step_end once every environment is done.
-
-    def _advance(self, j: int, stages: Any, outcome: FitOutcome | None) -> None:
-        """Run environment j's stages on (from the start when `outcome` is None): fits other
-        than full ones here; stop at a full fit (pending) or at the step's end (its result)."""
-        try:
-            job = next(stages) if outcome is None else stages.send(outcome)
-            while not job.full:
-                job = stages.send(job.run())
-        except StopIteration as done:
-            self._results[j] = self._stepped(j, done.value)
-            return
-        self._pending[j] = (stages, job)
-
-    def _keep_error(self, j: int, exc: BaseException) -> None:
-        if self._error is None:
-            self._error = (self.first + j, exc)
-
-    def step_begin(
-        self, actions: Any
-    ) -> tuple[list[tuple[int, float, FitJob]], bool, int | None]:
-        """Step every environment up to its full fit, if it needs one (other fits run here).
-
-        Returns the full fits waiting, (index in the batch, cost, job) each; whether an
-        environment failed (the shard stops there, as :meth:`step` does); and the index of the
-        one this shard runs at once, its largest (None: none; its outcome follows the answer,
-        see :meth:`take_follow_up`)."""
-        self._results = [None] * self.size
-        self._pending = {}
-        self._error = None
-        for j, action in enumerate(actions):
-            self.current = self.first + j
-            try:
-                if not self.staged[j] or (
-                    self.mode == AutoresetMode.NEXT_STEP and self.autoreset[j]
-                ):
-                    self._results[j] = self._step_one(j, action)
-                else:
-                    self._advance(j, self.envs[j].unwrapped.step_stages(action), None)
-            except Exception as exc:  # noqa: BLE001 - raised by step_end
-                self._keep_error(j, exc)
-                break
-        jobs = [(self.first + j, job.cost, job) for j, (_, job) in self._pending.items()]
-        failed = self._error is not None
-        if jobs and not failed:
-            self._follow_up = min(jobs, key=lambda t: (-t[1], t[0]))[0]
-        return jobs, failed, self._follow_up
-
-    def take_follow_up(self) -> Any:
-        """What to run right after answering (then answer again), or None."""
-        index, self._follow_up = self._follow_up, None
-        return None if index is None else (lambda: self.run_fit(index, None))
-
-    def run_fit(self, index: int, job: FitJob | None) -> FitOutcome | None:
-        """Run a full fit: this shard's own for environment `index` (`job` None; its step then
-        goes on here), or another shard's (`job`; returns its outcome)."""
-        if job is not None:
-            self.current = index
-            return job.run()
-        j = index - self.first
-        stages, own = self._pending.pop(j)
-        self.current = index
-        try:
-            self._advance(j, stages, own.run())
-        except Exception as exc:  # noqa: BLE001 - raised by step_end
-            self._keep_error(j, exc)
-        return None
-
-    def step_end(self, outcomes: dict[int, FitOutcome]) -> list[tuple]:
-        """Finish the step: take the outcomes of this shard's fits run elsewhere, run any full
-        fit still waiting here, and return every environment's result (as :meth:`step`)."""
-        for index, outcome in sorted(outcomes.items()):
-            j = index - self.first
-            stages, _ = self._pending.pop(j)
-            self.current = index
-            try:
-                self._advance(j, stages, outcome)
-            except Exception as exc:  # noqa: BLE001 - raised below
-                self._keep_error(j, exc)
-        while self._pending:  # not handed out (another shard failed): run them here
-            j = min(self._pending)
-            stages, job = self._pending.pop(j)
-            self.current = self.first + j
-            try:
-                self._advance(j, stages, job.run())
-            except Exception as exc:  # noqa: BLE001 - raised below
-                self._keep_error(j, exc)
-        if self._error is not None:
-            self.current, exc = self._error
-            self._error = None
-            raise exc
-        return [self._packed(j, r) for j, r in enumerate(self._results)]
 
     def call(self, name: str, args: tuple, kwargs: dict[str, Any]) -> list[Any]:
         out = []
@@ -314,9 +187,6 @@ def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mod
                 conn.send(("ok", None))
                 break
             conn.send(("ok", getattr(shard, command)(*data)))
-            follow_up = shard.take_follow_up()  # work the parent counts on: answer twice
-            if follow_up is not None:
-                conn.send(("ok", follow_up()))
         except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
             conn.send(("error", _failure(shard.current, exc)))
     conn.close()
@@ -440,7 +310,6 @@ class HapticVectorEnv(VectorEnv):
         autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
         copy: bool = True,
         context: str | None = None,
-        share_fits: bool = True,
         **kwargs: Any,
     ) -> None:
         self._shards: list[Any] = []  # (before any check: Gymnasium's __del__ closes us)
@@ -461,11 +330,6 @@ class HapticVectorEnv(VectorEnv):
         self.num_envs = int(num_envs)
         self.workers = min(int(workers), self.num_envs)
         self.copy = bool(copy)
-        if not isinstance(share_fits, (bool, np.bool_)):
-            raise InvalidInputError(f"`share_fits` must be True or False, got {share_fits!r}")
-        self.share_fits = bool(share_fits) and self.workers >= 2
-        self.fits_shared = 0  # full fits handed out so far
-        self.fits_moved = 0  # ... of which ran on another worker than their environment's
         self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array"]}
         self.render_mode = kwargs.get("render_mode")
         count = max(self.workers, 1)
@@ -518,96 +382,6 @@ class HapticVectorEnv(VectorEnv):
                 error = error or exc
         if error is not None:
             raise error
-        return out
-
-    def _step_sharing_fits(self, actions: list[Any]) -> list[Any]:
-        """A step whose full fits run on whichever worker is free.
-
-        Each worker steps its environments up to their full fits (``step_begin``), sends them
-        here and runs its largest at once; a worker with nothing left to do is handed its own
-        largest waiting fit, else another's largest (``run_fit``; the outcome comes back here
-        and goes to its owner); a worker whose fits are all done, once every worker has begun,
-        finishes its steps (``step_end``). A fit is a pure function of what it is sent, so
-        every environment gives the results it gives alone.
-        """
-        if self.closed:
-            raise InvalidInputError("the vector environment is closed")
-        shards = self._shards
-        n = len(shards)
-        for shard, part in zip(shards, actions, strict=True):
-            shard.send("step_begin", part)
-        beginning = set(range(n))  # workers whose step_begin answer is still to come
-        running: dict[int, tuple[int, int]] = {}  # worker -> (index, owner) of the fit it runs
-        ending: set[int] = set()  # told to finish
-        dead: set[int] = set()
-        pool: list[tuple[float, int, int, FitJob]] = []  # (cost, index, owner, job)
-        left = [0] * n  # fits of each worker's environments not yet done (waiting or running)
-        outcomes: list[dict[int, FitOutcome]] = [{} for _ in shards]
-        errors: list[HapticsimError] = []
-        failed = False
-
-        def hand_out(w: int) -> None:
-            if w in beginning or w in running or w in ending or w in dead:
-                return
-            own = [p for p in pool if p[2] == w]
-            if own or pool:
-                cost, index, owner, job = own[0] if own else pool[0]
-                pool.remove((cost, index, owner, job))
-                shards[w].send("run_fit", index, None if owner == w else job)
-                running[w] = (index, owner)
-                self.fits_shared += 1
-                self.fits_moved += owner != w
-            elif not beginning and left[w] == 0:
-                shards[w].send("step_end", outcomes[w])
-                ending.add(w)
-            # else: it waits (for the others' fits to share, or for its own to come back)
-
-        while beginning or running:
-            listening = {shards[w].conn: w for w in beginning | running.keys()}
-            for conn in wait(list(listening)):
-                w = listening[conn]
-                if w in beginning:
-                    beginning.discard(w)
-                    try:
-                        jobs, error, first = shards[w].receive()
-                    except HapticsimError as exc:  # a dead worker: go on with the others
-                        errors.append(exc)
-                        dead.add(w)
-                        failed = True
-                        continue
-                    failed = failed or error
-                    left[w] += len(jobs)
-                    pool += [(cost, index, w, job) for index, cost, job in jobs if index != first]
-                    pool.sort(key=lambda p: (-p[0], p[1]))
-                    if first is not None:
-                        running[w] = (first, w)
-                        self.fits_shared += 1
-                else:
-                    index, owner = running.pop(w)
-                    try:
-                        outcome = shards[w].receive()
-                    except HapticsimError as exc:  # a fit failed as no fit should
-                        errors.append(exc)
-                        outcome = FitOutcome(None, f"the fit failed on worker {w}: {exc}")
-                    left[owner] -= 1
-                    if owner != w:
-                        outcomes[owner][index] = outcome
-            if failed and pool:  # no more sharing: each shard runs its own waiting fits
-                for _, _, owner, _ in pool:
-                    left[owner] -= 1
-                pool.clear()
-            for w in range(n):
-                hand_out(w)
-        out: list[Any] = []
-        for w in range(n):
-            if w in dead:
-                continue
-            try:
-                out.extend(shards[w].receive())
-            except HapticsimError as exc:  # read the others' answers too: the pipes stay in step
-                errors.append(exc)
-        if errors:
-            raise errors[0]
         return out
 
     def _split(self, items: Any) -> list[Any]:
@@ -670,10 +444,7 @@ class HapticVectorEnv(VectorEnv):
         actions = list(iterate(self.action_space, actions))
         if len(actions) != self.num_envs:
             raise InvalidInputError(f"expected {self.num_envs} actions, got {len(actions)}")
-        if self.share_fits:
-            answers = self._step_sharing_fits(self._split(actions))
-        else:
-            answers = self._ask("step", [(a,) for a in self._split(actions)])
+        answers = self._ask("step", [(a,) for a in self._split(actions)])
         rewards = np.zeros(self.num_envs)
         terminations = np.zeros(self.num_envs, bool)
         truncations = np.zeros(self.num_envs, bool)
