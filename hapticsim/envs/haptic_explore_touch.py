@@ -240,6 +240,13 @@ class HapticExploreTouchTactileEnv(HapticExploreTouchEnv):
         if config is None:
             kwargs.setdefault("sensing", "tactile")
         super().__init__(render_mode=render_mode, config=config, **kwargs)
+        pads, rows, cols = self.base.taxel_shape
+        if rows < TAXEL_GRID or cols < TAXEL_GRID:
+            raise InvalidInputError(
+                f"the pads have {rows} x {cols} taxels; this observation pools them to "
+                f"{TAXEL_GRID} x {TAXEL_GRID} blocks and needs at least that many (a skin of "
+                "finer pitch)"
+            )
         self.touch_observer = TouchObserver(taxels=True)
         self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (TACTILE_OBS_DIM,), np.float32)
 

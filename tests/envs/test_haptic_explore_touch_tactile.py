@@ -100,6 +100,8 @@ def test_registered_tactile_with_a_vector_entry_point() -> None:
     env.close()
     with pytest.raises(InvalidInputError, match="sensing"):
         HapticExploreTouchTactileEnv(**KW, sensing="exact")
+    capacitive = HapticExploreTouchTactileEnv(**KW, skin="capacitive")  # 9 x 9 taxels: enough
+    assert capacitive.base.taxel_shape[1:] == (9, 9)
     vec = gym.make_vec(TACTILE_ENV_ID, num_envs=2, workers=0, **KW)
     obs, _ = vec.reset(seed=0)
     assert obs.shape == (2, TACTILE_OBS_DIM)
@@ -120,3 +122,10 @@ def test_a_tactile_actor_runs_on_the_tactile_v0_as_on_its_own_environment(tmp_pa
         make_policy(f"learned:{path}", HapticExploreEnv(**KW))
     with pytest.raises(InvalidInputError, match="observations of size"):
         make_policy(f"learned:{path}", HapticExploreTouchEnv(**KW))
+
+
+def test_pads_coarser_than_the_pooling_are_refused(tmp_path) -> None:  # noqa: ANN001
+    skin = tmp_path / "coarse.toml"
+    skin.write_text('name = "coarse"\npitch = 0.006\n[skin]\nmodulus = 2.0e5\nthickness = 0.002\n')
+    with pytest.raises(InvalidInputError, match="6 x 6 taxels.*8 x 8 blocks"):
+        HapticExploreTouchTactileEnv(**KW, skin=str(skin))
