@@ -116,11 +116,14 @@ def add_suite_parser(sub: Any) -> None:
 
 
 def _cmd_policies_evaluate(args: argparse.Namespace) -> int:
+    if args.skin is not None and args.sensing != "tactile":
+        raise InvalidInputError("--skin is for --sensing tactile")
     result = evaluate_policy(
         args.policy, backend=args.backend, objects=args.objects, episodes=args.episodes,
         touches=args.touches, seed=args.seed, workers=args.workers, progress=not args.quiet,
         **({} if args.noise is None else {"noise": args.noise}),
         **({} if args.sensing == "exact" else {"sensing": args.sensing}),
+        **({} if args.skin is None else {"skin": args.skin}),
     )  # fmt: skip
     _print_json(result)
     return 0
@@ -161,8 +164,12 @@ def add_policies_parser(sub: Any) -> None:
     )  # fmt: skip
     p.add_argument(
         "--sensing", choices=("exact", "tactile"), default="exact",
-        help="exact contacts, or contacts estimated from taxel pads (ideal skin; the policies "
-        "also see the pads' images, as on HapticExploreTactile-v0)",
+        help="exact contacts, or contacts estimated from taxel pads (the policies also see the "
+        "pads' images, as on HapticExploreTactile-v0)",
+    )  # fmt: skip
+    p.add_argument(
+        "--skin", default=None,
+        help="with --sensing tactile: ideal (default), vision, capacitive or a skin .toml file",
     )  # fmt: skip
     p.add_argument(
         "--workers", type=_positive_int, default=None, help="processes (default: all cores)"

@@ -120,6 +120,12 @@ def test_tactile_sensing_runs_tactile_actors_and_exact_refuses_them(capsys, tmp_
         assert code == 0
         runs[sensing] = json.loads(out)["episodes_epsilon"][0]
     assert runs["exact"] != runs["tactile"]  # the pads' estimates are not the exact contacts
+    code, out, _ = run_cli(capsys, "--policy", "random", "--episodes", "1", "--touches", "8",
+                           "--workers", "1", "--sensing", "tactile", "--skin", "capacitive",
+                           "--quiet")  # fmt: skip
+    assert code == 0 and json.loads(out)["episodes_epsilon"][0] != runs["tactile"]
+    code, out, err = run_cli(capsys, "--policy", "random", "--skin", "vision", "--quiet")
+    assert code == 2 and "--skin is for --sensing tactile" in err
     code, out, _ = run_cli(capsys, "--policy", f"learned:{path}", "--episodes", "1", "--touches",
                            "3", "--workers", "1", "--sensing", "tactile", "--quiet")  # fmt: skip
     assert code == 0 and len(json.loads(out)["episodes_epsilon"][0]) == 3

@@ -37,6 +37,7 @@ run tapered       --backend analytic --objects random_tapered  --episodes 100 --
 run paper         --backend analytic --objects paper           --episodes 40  --seed 0
 run noise10       --backend analytic --objects random          --episodes 100 --seed 0 --noise 0.1
 run mujoco        --backend mujoco   --objects paper           --episodes 20  --seed 0
+run capacitive    --backend analytic --objects random          --episodes 100 --seed 0 --skin capacitive
 run validation    --backend analytic --objects random          --episodes 32  --seed 10000
 
 # Test-time ablation: the same actor with its pad images blanked (does it use them?).
@@ -58,5 +59,6 @@ if [ "${REPORT:-0}" = 1 ]; then
     --families "random=random objects, 100" "tapered=random tapered objects, 100" \
       "paper=the paper's bodies, 40" "noise10=random objects, noise 0.1, 100" \
       "mujoco=MuJoCo hand (its pads), the paper's bodies, 20" \
+      "capacitive=random objects, capacitive skin (9 x 9 taxels, noise, dead taxels), 100" \
       "validation=random objects, validation seeds 10,000..10,031, 32"
 fi
