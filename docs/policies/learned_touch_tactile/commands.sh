@@ -4,11 +4,15 @@
 #   python scripts/train_policy.py --algo ppo --env touch-tactile --vector native --n-envs 16 \
 #     --n-steps 128 --n-epochs 5 --batch-size 256 --timesteps 1000000 --val-every 20000 \
 #     --checkpoint-every 50000 --max-hours 1.9 --out runs/learned_touch_tactile
+#   python scripts/train_policy.py --resume --timesteps 1000000 --max-hours 2.6 \
+#     --out runs/learned_touch_tactile      # the time limit stopped it at 947,456 steps
 #   cp runs/learned_touch_tactile/{curve.csv,curve.png,train.log,summary.json} \
 #     docs/policies/learned_touch_tactile/training/
 # The actor evaluated is the run's last one (chosen on nothing, so every family below is held
 # out for it):
 #   cp runs/learned_touch_tactile/policy_last.npz docs/policies/learned_touch_tactile/policy.npz
+#   cp runs/learned_touch_tactile/policy.npz docs/policies/learned_touch_tactile/policy_best.npz
+# (the baselines' columns ran with WORKERS=1 beside the training; the actor's after it)
 # Held-out evaluation: every family felt through the pads (--sensing tactile: analytic pads or
 # the hand's, ideal skin), every policy on the same episodes (episode i: seed + i). Training
 # used environment seeds from 1,000,000 (random objects, noise 0.02, analytic pads); validation
