@@ -38,3 +38,26 @@ def test_the_touch_policy_figures_in_the_readme_are_the_summary() -> None:
     data = json.loads((REPO / "docs/policies/learned_touch/summary.json").read_text())
     mean = data["random"]["mean"]
     assert quoted == [round(mean[k], 3) for k in ("learned-touch", "learned", "uncertainty")]
+
+
+def test_the_tactile_touch_actor_figures_in_the_readme_are_the_results() -> None:
+    import numpy as np
+    from scipy.stats import wilcoxon
+
+    text = " ".join((REPO / "README.md").read_text().split())
+    sentence = re.search(r"trained on it for ([\d,]+) steps .*? blanking them changes nothing "
+                         r"\(p = ([\d.]+)\)", text)  # fmt: skip
+    assert sentence, "the README's sentence on the tactile touch actor changed: update this test"
+    folder = REPO / "docs/policies/learned_touch_tactile"
+    steps = json.loads((folder / "training/summary.json").read_text())["steps"]
+    assert int(sentence.group(1).replace(",", "")) == steps
+
+    def final(name: str) -> np.ndarray:
+        rows = json.loads((folder / "json" / name).read_text())["episodes_epsilon"]
+        return np.array([row[-1] for row in rows])
+
+    p = wilcoxon(final("random-tactile.json"), final("ablate-no-taxels.json")).pvalue
+    assert float(sentence.group(2)) == round(float(p), 2)
+    summary = json.loads((folder / "summary.json").read_text())
+    tests = [row["tactile vs"]["learned-touch"]["p_value"] for row in summary.values()]
+    assert min(tests) >= 0.05  # "no difference significant"

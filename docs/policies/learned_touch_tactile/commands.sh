@@ -64,5 +64,5 @@ if [ "${REPORT:-0}" = 1 ]; then
       "paper=the paper's bodies, 40" "noise10=random objects, noise 0.1, 100" \
       "mujoco=MuJoCo hand (its pads), the paper's bodies, 20" \
       "capacitive=random objects, capacitive skin (9 x 9 taxels, noise, dead taxels), 100" \
-      "validation=random objects, validation seeds 10,000..10,031, 32"
+      "validation=random objects, validation seeds 10,000..10,031, 32" > "$dir/table.md"
 fi
