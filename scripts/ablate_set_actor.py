@@ -28,16 +28,20 @@ from hapticsim.envs.haptic_explore_touch import TACTILE_TOUCH_WIDTH, TOUCH_WIDTH
 from hapticsim.envs.learned import Actor, load_actor
 
 
+def _with_set_params(actor: Actor, j: int, params: list[np.ndarray]) -> Actor:
+    """`actor` with set `j`'s network arrays replaced."""
+    sets = list(actor.sets)
+    sets[j] = replace(sets[j], params=tuple(params))
+    return Actor(actor.layers, actor.params, actor.squash, dict(actor.meta), tuple(sets))
+
+
 def blind_set(actor: Actor, j: int) -> Actor:
     """`actor` with set `j`'s pooled features zero."""
-    s = actor.sets[j]
-    params = list(s.params)
+    params = list(actor.sets[j].params)
     last = max(i for i, p in enumerate(params) if p.ndim == 2)  # the last linear's W
     params[last] = np.zeros_like(params[last])
     params[last + 1] = np.zeros_like(params[last + 1])
-    sets = list(actor.sets)
-    sets[j] = replace(s, params=tuple(params))
-    return Actor(actor.layers, actor.params, actor.squash, dict(actor.meta), tuple(sets))
+    return _with_set_params(actor, j, params)
 
 
 def blind_head(actor: Actor) -> Actor:
@@ -51,14 +55,11 @@ def blind_head(actor: Actor) -> Actor:
 
 def blind_taxels(actor: Actor) -> Actor:
     """`actor` with its touch set's network ignoring each touch's pad image."""
-    s = actor.sets[1]
-    params = list(s.params)
+    params = list(actor.sets[1].params)
     w = params[0].copy()  # (hidden, element inputs): approach, count, image, [present dropped]
     w[:, TOUCH_WIDTH - 1 : TACTILE_TOUCH_WIDTH - 1] = 0.0
     params[0] = w
-    sets = list(actor.sets)
-    sets[1] = replace(s, params=tuple(params))
-    return Actor(actor.layers, actor.params, actor.squash, dict(actor.meta), tuple(sets))
+    return _with_set_params(actor, 1, params)
 
 
 def main(argv: list[str] | None = None) -> int:

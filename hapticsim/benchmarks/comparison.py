@@ -71,17 +71,13 @@ _ENVS: dict[tuple, Any] = {}
 
 def run_task(task: ComparisonTask) -> dict[str, Any]:
     """Run one episode; returns epsilon, IoU, contacts and step times after each touch."""
-    from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
-    from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
+    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
     from hapticsim.envs.policies import make_policy, run_episode
 
     key = (task.objects, tuple(sorted(task.env_kwargs.items())))
     env = None if task.fresh_env else _ENVS.get(key)
     if env is None:  # one environment per worker and setting, reused across episodes
-        # felt through pads, v0 also shows their images (HapticExploreTactile-v0: the same task,
-        # for policies that read them)
-        tactile = task.env_kwargs.get("sensing") == "tactile"
-        kind = HapticExploreTactileEnv if tactile else HapticExploreEnv
+        kind = v0_class(task.env_kwargs.get("sensing", "exact"))
         env = kind(objects=task.objects, **task.env_kwargs)
         if not task.fresh_env:
             _ENVS[key] = env

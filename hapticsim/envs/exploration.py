@@ -77,8 +77,7 @@ def run_policy_exploration(
         SimulationError: the object is too large or too far for the hand, or fewer than
             :data:`~hapticsim.sim.session.MIN_CONTACTS` contacts were gathered.
     """
-    from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
-    from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
+    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
     from hapticsim.envs.policies import make_policy
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.session import MIN_CONTACTS, Exploration
@@ -94,9 +93,7 @@ def run_policy_exploration(
     gen = as_generator(rng)
     env_seed, policy_seed = (int(s) for s in gen.integers(2**63, size=2))
     start = time.perf_counter()
-    # felt through pads, the policy also sees their images (an actor trained on them needs them)
-    kind = HapticExploreTactileEnv if config.sensing == "tactile" else HapticExploreEnv
-    env = kind(
+    env = v0_class(config.sensing)(
         backend="mujoco", objects=[truth], touch_budget=budget, noise=0.0,
         max_contacts=max(256, count + 64), compute_metrics=False, reward="eof",
         hand=config.hand, sensing=config.sensing, skin=config.skin,

@@ -82,4 +82,11 @@ class HapticExploreTactileEnv(HapticExploreEnv):
         return np.clip(images / TAXEL_SCALE, 0.0, OBS_BOUND).astype(np.float32)
 
 
-__all__ = ["HapticExploreTactileEnv", "TAXEL_SCALE"]
+def v0_class(sensing: str) -> type[HapticExploreEnv]:
+    """The v0 environment to run policies on with this `sensing`: through pads,
+    :class:`HapticExploreTactileEnv` (v0's task, and the pads' images shown for the policies that
+    read them); else :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`."""
+    return HapticExploreTactileEnv if sensing == "tactile" else HapticExploreEnv
+
+
+__all__ = ["HapticExploreTactileEnv", "TAXEL_SCALE", "v0_class"]

@@ -202,10 +202,14 @@ class HapticExploreTouchEnv(HapticExploreV1Env):
     - v0: initial version.
     """
 
+    #: Each touch's pad image in its element (:class:`TouchObserver`'s ``taxels``).
+    taxels: bool = False
+
     def __init__(self, render_mode: str | None = None, config: Any = None, **kwargs: Any) -> None:
         super().__init__(render_mode=render_mode, config=config, **kwargs)
-        self.touch_observer = TouchObserver()
-        self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (OBS_DIM,), np.float32)
+        self.touch_observer = TouchObserver(taxels=self.taxels)
+        shape = (self.touch_observer.obs_dim,)
+        self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, shape, np.float32)
 
     def _observe(
         self, obs: dict[str, np.ndarray], features: NDArray[np.float32], approach: Array | None
@@ -235,20 +239,19 @@ class HapticExploreTouchTactileEnv(HapticExploreTouchEnv):
     """
 
     base_class = HapticExploreTactileEnv
+    taxels = True
 
     def __init__(self, render_mode: str | None = None, config: Any = None, **kwargs: Any) -> None:
         if config is None:
             kwargs.setdefault("sensing", "tactile")
         super().__init__(render_mode=render_mode, config=config, **kwargs)
-        pads, rows, cols = self.base.taxel_shape
+        _, rows, cols = self.base.taxel_shape
         if rows < TAXEL_GRID or cols < TAXEL_GRID:
             raise InvalidInputError(
                 f"the pads have {rows} x {cols} taxels; this observation pools them to "
                 f"{TAXEL_GRID} x {TAXEL_GRID} blocks and needs at least that many (a skin of "
                 "finer pitch)"
             )
-        self.touch_observer = TouchObserver(taxels=True)
-        self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (TACTILE_OBS_DIM,), np.float32)
 
 
 __all__ = [
