@@ -61,3 +61,17 @@ def test_the_tactile_touch_actor_figures_in_the_readme_are_the_results() -> None
     summary = json.loads((folder / "summary.json").read_text())
     tests = [row["tactile vs"]["learned-touch"]["p_value"] for row in summary.values()]
     assert min(tests) >= 0.05  # "no difference significant"
+
+
+def test_the_threads_model_table_in_docs_vector_is_its_json() -> None:
+    text = (REPO / "docs/vector.md").read_text()
+    data = json.loads((REPO / "docs/vector/threads_model.json").read_text())["speedup"]
+    header = re.search(r"\| share of the step holding the GIL \|(.*)\|\n", text)
+    assert header, "docs/vector.md's threads model table changed: update this test"
+    shares = [cell.strip() for cell in header.group(1).split("|")]
+    for label, key in (("pool of 2 threads, environments in order", "in_order"),
+                       ("... largest step first", "largest_first")):  # fmt: skip
+        row = re.search(r"\| " + re.escape(label) + r" \|(.*)\|\n", text)
+        assert row, f"the row {label!r} of docs/vector.md's threads model table is gone"
+        quoted = [float(cell.strip().rstrip("x")) for cell in row.group(1).split("|")]
+        assert quoted == [round(data[share][key], 2) for share in shares]
