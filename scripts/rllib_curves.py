@@ -28,7 +28,9 @@ def main() -> None:
         rows = list(csv.DictReader((run / "curve.csv").open()))
         summary = json.loads((run / "summary.json").read_text())
         random = summary["random_validation"]
-        label = summary["algo"].removesuffix("Config")
+        # the seed where the summary records it (runs since 2026-12-05), else the folder's name
+        tag = f"seed {summary['seed']}" if summary.get("seed") is not None else run.name
+        label = f"{summary['algo'].removesuffix('Config')} ({tag})"
         steps = [int(r["steps"]) for r in rows]
         for ax, key in zip(axes, ("val_mean", "val_median"), strict=True):
             ax.plot(steps, [float(r[key]) for r in rows], "o-", markersize=3, label=label)

@@ -321,6 +321,7 @@ def train(
         "num_env_runners": config.num_env_runners,
         "num_envs_per_env_runner": config.num_envs_per_env_runner,
         "vectorize": config.gym_env_vectorize_mode,
+        "seed": config.seed,
         "steps": steps,
         "seconds": time.perf_counter() - start,
         "random_validation": random_val,
