@@ -28,8 +28,11 @@ def main() -> None:
         rows = list(csv.DictReader((run / "curve.csv").open()))
         summary = json.loads((run / "summary.json").read_text())
         random = summary["random_validation"]
-        # the seed where the summary records it (runs since 2026-12-05), else the folder's name
+        # the seed and a learning-rate schedule where the summary records them (runs since
+        # 2026-12-05), else the folder's name
         tag = f"seed {summary['seed']}" if summary.get("seed") is not None else run.name
+        if isinstance(summary.get("lr"), list):
+            tag += f", lr {summary['lr'][0][1]:g} to {summary['lr'][-1][1]:g}"
         label = f"{summary['algo'].removesuffix('Config')} ({tag})"
         steps = [int(r["steps"]) for r in rows]
         for ax, key in zip(axes, ("val_mean", "val_median"), strict=True):

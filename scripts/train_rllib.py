@@ -21,7 +21,7 @@ import json
 import sys
 
 from hapticsim.errors import HapticsimError
-from hapticsim.experiments.rllib import ALGOS, VECTORIZE, build_config, train
+from hapticsim.experiments.rllib import ALGOS, PPO_LR, VECTORIZE, build_config, train
 
 
 def main() -> None:
@@ -35,9 +35,14 @@ def main() -> None:
     p.add_argument("--eval-every", type=int, default=10_000, help="steps between validations")
     p.add_argument("--val-episodes", type=int, default=32)
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--lr-end", type=float, default=None,
+                   help="PPO: the learning rate falls linearly from 3e-4 to this by --timesteps")
     p.add_argument("--max-hours", type=float, default=None)
     p.add_argument("--out", required=True)
     args = p.parse_args()
+    if args.lr_end is not None and (args.algo != "ppo" or not args.lr_end > 0):
+        p.error(f"--lr-end must be > 0 and goes with --algo ppo, got {args.lr_end} with "
+                f"--algo {args.algo}")  # fmt: skip
     try:
         summary = _run(args)
     except HapticsimError as exc:
@@ -46,9 +51,12 @@ def main() -> None:
 
 
 def _run(args: argparse.Namespace) -> dict:
+    training = {}
+    if args.lr_end is not None:
+        training["lr"] = [[0, PPO_LR], [args.timesteps, args.lr_end]]
     config = build_config(
         args.algo, num_env_runners=args.runners, num_envs_per_env_runner=args.envs_per_runner,
-        vectorize=args.vectorize, seed=args.seed,
+        vectorize=args.vectorize, seed=args.seed, **training,
     )  # fmt: skip
     return train(config, args.timesteps, args.out, args.eval_every, args.val_episodes,
                  args.address, args.max_hours)  # fmt: skip

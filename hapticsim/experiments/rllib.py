@@ -37,6 +37,9 @@ from hapticsim.errors import ExecutionError, InvalidInputError
 ALGOS: tuple[str, ...] = ("ppo", "sac")
 #: How an EnvRunner vectorises its environments.
 VECTORIZE: tuple[str, ...] = ("sync", "native")
+#: PPO's learning rate (a schedule, ``[[step, lr], ...]``, may replace it: ``lr=`` of
+#: :func:`build_config`, ``--lr-end`` of ``scripts/train_rllib.py``).
+PPO_LR: float = 3e-4
 #: Environment seeds of the validation objects: VAL_SEED + i (as ``scripts/train_policy.py``).
 VAL_SEED: int = 10_000
 #: The SB3 recipe's environment settings (``scripts/train_policy.py`` defaults).
@@ -118,7 +121,7 @@ def build_config(
     layers = list(hidden)
     if algo == "ppo":
         config = PPOConfig().training(
-            **{"lr": 3e-4, "gamma": 0.99, "lambda_": 0.95, "num_epochs": 10,
+            **{"lr": PPO_LR, "gamma": 0.99, "lambda_": 0.95, "num_epochs": 10,
                "minibatch_size": 128, "train_batch_size_per_learner": 1024, **training}
         ).rl_module(model_config={"fcnet_hiddens": layers, "fcnet_activation": "tanh",
                                   "vf_share_layers": False})  # fmt: skip
@@ -322,6 +325,7 @@ def train(
         "num_envs_per_env_runner": config.num_envs_per_env_runner,
         "vectorize": config.gym_env_vectorize_mode,
         "seed": config.seed,
+        "lr": config.lr,
         "steps": steps,
         "seconds": time.perf_counter() - start,
         "random_validation": random_val,

@@ -45,6 +45,15 @@ def test_bad_arguments_raise_clear_errors() -> None:
         build_config("ppo", vectorize="async")
 
 
+def test_train_rllib_refuses_a_learning_rate_schedule_it_cannot_apply(tmp_path: Path) -> None:
+    script = Path(__file__).resolve().parents[2] / "scripts" / "train_rllib.py"
+    for bad in (["--algo", "sac", "--lr-end", "1e-5"], ["--lr-end", "0"]):
+        run = subprocess.run([sys.executable, str(script), *bad, "--out", str(tmp_path / "x")],
+                             capture_output=True, text=True, timeout=120)  # fmt: skip
+        assert run.returncode == 2 and "--lr-end must be > 0" in run.stderr
+        assert not (tmp_path / "x").exists()
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -130,7 +139,8 @@ def test_rllib_trains_with_two_env_runners_on_a_cluster(
     algo: str, vectorize: str, ray_cluster: str, tmp_path: Path
 ) -> None:
     training = (
-        {"train_batch_size_per_learner": 64, "minibatch_size": 32, "num_epochs": 1}
+        {"train_batch_size_per_learner": 64, "minibatch_size": 32, "num_epochs": 1,
+         "lr": [[0, 3e-4], [96, 3e-5]]}  # a schedule, as train_rllib.py --lr-end makes
         if algo == "ppo" else
         {"train_batch_size_per_learner": 32, "num_steps_sampled_before_learning_starts": 32}
     )  # fmt: skip
@@ -143,7 +153,9 @@ def test_rllib_trains_with_two_env_runners_on_a_cluster(
     summary = train(config, 96, tmp_path, eval_every=10_000, val_episodes=2, address=ray_cluster,
                     progress=False)  # fmt: skip
     assert summary["steps"] >= 96
-    assert summary["num_env_runners"] == 2
+    assert summary["num_env_runners"] == 2 and summary["seed"] == 0
+    if algo == "ppo":
+        assert summary["lr"] == [[0, 3e-4], [96, 3e-5]]
     assert np.isfinite(summary["best"]["val_mean"])
     assert (tmp_path / "curve.csv").read_text().startswith("steps,")
     assert (tmp_path / "best").is_dir()
