@@ -75,3 +75,20 @@ def test_the_threads_model_table_in_docs_vector_is_its_json() -> None:
         assert row, f"the row {label!r} of docs/vector.md's threads model table is gone"
         quoted = [float(cell.strip().rstrip("x")) for cell in row.group(1).split("|")]
         assert quoted == [round(data[share][key], 2) for share in shares]
+
+
+def test_the_rllib_held_out_figures_in_the_readme_are_its_json() -> None:
+    text = " ".join((REPO / "README.md").read_text().split())
+    sentence = re.search(r"its best module scores ([\d.]+)-([\d.]+) against random touches' "
+                         r"([\d.]+) \(p <= ([\d.e-]+)\), though single validations jump and "
+                         r"SB3's SAC actor \(([\d.]+)\) stays ahead", text)  # fmt: skip
+    assert sentence, "the README's sentence on RLlib held out changed: update this test"
+    data = json.loads((REPO / "docs/vector/rllib_heldout.json").read_text())
+    rllib = {k: v for k, v in data["runs"].items() if k != "learned"}
+    means = [v["mean"] for v in rllib.values()]
+    assert float(sentence.group(1)) == round(min(means), 3)
+    assert float(sentence.group(2)) == round(max(means), 3)
+    assert float(sentence.group(3)) == round(data["random"]["mean"], 3)
+    worst_p = max(v["wilcoxon_p_vs_random"] for v in rllib.values())
+    assert sentence.group(4) == f"{worst_p:.1e}"
+    assert float(sentence.group(5)) == round(data["runs"]["learned"]["mean"], 3)

@@ -162,13 +162,13 @@ def deterministic_policy(module: Any) -> Callable[[np.ndarray], np.ndarray]:
     return act
 
 
-def validate(
+def final_epsilons(
     policy: Callable[[np.ndarray], np.ndarray] | None,
     env_config: dict[str, Any] | None = None,
     episodes: int = 32,
     seed: int = VAL_SEED,
-) -> dict[str, float]:
-    """Mean and median epsilon after the last touch of the validation episodes.
+) -> list[float]:
+    """Epsilon after the last touch of each episode (seeds ``seed + i``).
 
     Args:
         policy: a function of one observation (None: uniform random actions, seeded).
@@ -191,6 +191,18 @@ def validate(
             done = terminated or truncated
         final.append(float(info["epsilon"]))
     env.close()
+    return final
+
+
+def validate(
+    policy: Callable[[np.ndarray], np.ndarray] | None,
+    env_config: dict[str, Any] | None = None,
+    episodes: int = 32,
+    seed: int = VAL_SEED,
+) -> dict[str, float]:
+    """Mean and median epsilon after the last touch of the validation episodes
+    (:func:`final_epsilons`)."""
+    final = final_epsilons(policy, env_config, episodes, seed)
     return {"mean": float(np.mean(final)), "median": float(np.median(final))}
 
 

@@ -54,6 +54,17 @@ def test_train_rllib_refuses_a_learning_rate_schedule_it_cannot_apply(tmp_path: 
         assert not (tmp_path / "x").exists()
 
 
+def test_rllib_heldout_refuses_folders_and_arguments_it_cannot_use(tmp_path: Path) -> None:
+    script = Path(__file__).resolve().parents[2] / "scripts" / "rllib_heldout.py"
+    cases = [([str(tmp_path)], "no best/ module"),
+             ([str(tmp_path), "--episodes", "1"], "--episodes must be >= 2"),
+             ([str(tmp_path), "--actor", "x"], "--actor must be NAME=FILE")]  # fmt: skip
+    for args, message in cases:
+        run = subprocess.run([sys.executable, str(script), *args], capture_output=True,
+                             text=True, timeout=120)  # fmt: skip
+        assert run.returncode == 2 and message in run.stderr, run.stderr
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
