@@ -92,3 +92,31 @@ def test_the_rllib_held_out_figures_in_the_readme_are_its_json() -> None:
     worst_p = max(v["wilcoxon_p_vs_random"] for v in rllib.values())
     assert sentence.group(4) == f"{worst_p:.1e}"
     assert float(sentence.group(5)) == round(data["runs"]["learned"]["mean"], 3)
+
+
+def test_the_behaviour_cloning_table_is_its_results() -> None:
+    import numpy as np
+    from scipy.stats import wilcoxon
+
+    text = (REPO / "docs/policies/learned_touch/README.md").read_text()
+    folder = REPO / "docs/policies/learned_touch"
+
+    def final(path: Path) -> np.ndarray:
+        return np.array([row[-1] for row in json.loads(path.read_text())["episodes_epsilon"]])
+
+    for label, obs in (("the touch network", "touch"), ("the compact network (the control)",
+                                                        "compact")):  # fmt: skip
+        row = re.search(r"\| " + re.escape(label) + r" \| ([\d.]+) \(([\d.]+)\) \| (\d+) \| "
+                        r"better in (\d+)/100, p = ([\d.e-]+) \| better in (\d+)/100, "
+                        r"p = ([\d.e-]+) \|", text)  # fmt: skip
+        assert row, f"the behaviour cloning row {label!r} changed: update this test"
+        bc = final(folder / "bc" / obs / "random.json")
+        unc = final(folder / "json" / "random-uncertainty.json")
+        touch = final(folder / "json" / "random-learned-touch.json")
+        assert float(row.group(1)) == round(bc.mean(), 4)
+        assert float(row.group(2)) == round(float(np.median(bc)), 4)
+        assert int(row.group(3)) == int(np.sum(bc > 0.05))
+        assert int(row.group(4)) == int(np.sum(bc < unc))
+        assert row.group(5) == f"{wilcoxon(bc, unc).pvalue:.1e}"
+        assert int(row.group(6)) == int(np.sum(bc < touch))
+        assert float(row.group(7)) == float(f"{wilcoxon(bc, touch).pvalue:.2g}")

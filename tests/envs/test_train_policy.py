@@ -1,4 +1,5 @@
-"""scripts/train_policy.py end to end (slow): train, checkpoint, resume, export, evaluate.
+"""scripts/train_policy.py end to end (slow): train, checkpoint, resume, export, evaluate; and
+scripts/bc_heuristic.py (behaviour cloning of the uncertainty policy) on a few episodes.
 
 A pipeline test, not a quality test: a few thousand steps of SAC with small networks.
 """
@@ -105,3 +106,35 @@ def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path, observati
     assert len(policy.actor.sets) == 2
     assert policy.meta["settings"]["sensing"] == ("tactile" if tactile else "exact")
     assert np.all(np.isfinite(run_episode(env, policy, seed=0).epsilon))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("observation", ["touch", "compact"])
+def test_behaviour_cloning_of_the_heuristic_exports_an_actor_that_runs(tmp_path,  # noqa: ANN001
+                                                                        observation: str) -> None:
+    """scripts/bc_heuristic.py end to end on a few episodes: the weight file it writes is an actor
+    of the chosen observation that `policies evaluate` runs."""
+    pytest.importorskip("stable_baselines3")
+    pytest.importorskip("torch")
+    from hapticsim.envs.learned import load_actor
+
+    out = tmp_path / "bc"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    run = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "bc_heuristic.py"), "--observation", observation,
+         "--episodes", "12", "--epochs", "1", "--out", str(out)],
+        capture_output=True, text=True, env=env, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-2000:]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["data"]["samples"] == 120 and summary["observation"] == observation
+    assert np.isfinite(summary["epochs"][-1]["held_out_mse"])
+    actor = load_actor(out / "policy.npz", obs_dim=545 if observation == "touch" else 85)
+    assert actor.meta["training"]["algo"].startswith("behaviour cloning")
+    evaluate = subprocess.run(
+        [sys.executable, "-m", "hapticsim.cli", "policies", "evaluate", "--policy",
+         f"learned:{out / 'policy.npz'}", "--episodes", "1", "--touches", "2", "--quiet"],
+        capture_output=True, text=True, env=env, timeout=600,
+    )  # fmt: skip
+    assert evaluate.returncode == 0, evaluate.stderr[-2000:]
+    assert len(json.loads(evaluate.stdout)["episodes_epsilon"][0]) == 2
