@@ -32,11 +32,14 @@ from pathlib import Path
 
 import numpy as np
 
+from hapticsim.envs.haptic_explore_v1 import encode_action_v1
+from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_TOUCH_ID
+from hapticsim.experiments.rllib import DEFAULT_ENV_CONFIG
+
 #: Environment settings of ``learned-touch``'s training (scripts/train_policy.py defaults).
-SETTINGS = {"backend": "analytic", "objects": "random", "touch_budget": 10, "noise": 0.02}
+SETTINGS = {k: DEFAULT_ENV_CONFIG[k] for k in ("backend", "objects", "touch_budget", "noise")}
 #: The observations an actor can be cloned on, and their environments.
-ENV_IDS = {"touch": "hapticsim/HapticExploreTouch-v0",
-           "compact": "hapticsim/HapticExploreCompact-v0"}
+ENV_IDS = {"touch": HAPTIC_EXPLORE_TOUCH_ID, "compact": HAPTIC_EXPLORE_COMPACT_ID}
 
 
 def collect(episodes: int, seed: int, observation: str) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -64,10 +67,9 @@ def collect(episodes: int, seed: int, observation: str) -> tuple[np.ndarray, np.
         while not done:
             action = policy(obs)
             touch = decode_action(action, cfg.max_stroke, cfg.stroke_spacing, n_fingers)
-            psi = float(np.angle(np.exp(1j * touch.stroke_angle)))
             observations.append(features)
-            actions.append([*touch.approach, psi / np.pi,
-                            2.0 * touch.stroke_length / cfg.max_stroke - 1.0])  # fmt: skip
+            actions.append(encode_action_v1(touch.approach, touch.stroke_angle,
+                                            touch.stroke_length / cfg.max_stroke))  # fmt: skip
             obs, _, terminated, truncated, info = env.step(action)
             features = observer.update(obs, touch.approach)
             done = terminated or truncated
@@ -104,7 +106,7 @@ def main() -> None:
     import gymnasium as gym
 
     from hapticsim.envs.haptic_explore_touch import SETS
-    from hapticsim.envs.learned import actor_from_sb3
+    from hapticsim.envs.learned import actor_from_sb3, recorded_settings
     from hapticsim.experiments.sb3 import TouchSetExtractor
 
     args.out.mkdir(parents=True, exist_ok=True)
@@ -157,11 +159,7 @@ def main() -> None:
             seconds = time.perf_counter() - start
             print(f"epoch {epoch + 1}: train {total / len(xt):.4f}, held out {held:.4f} "
                   f"({seconds:.0f} s)", file=sys.stderr, flush=True)  # fmt: skip
-    base = touch_env.unwrapped.config.base
-    settings = {k: getattr(base, k) for k in (
-        "backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",
-        "position_noise", "max_contacts", "support", "sensing")}  # fmt: skip
-    settings.update(objects=SETTINGS["objects"], n_fingers=touch_env.unwrapped.n_fingers)
+    settings = recorded_settings(touch_env, objects=SETTINGS["objects"])
     command = "python scripts/bc_heuristic.py " + " ".join(sys.argv[1:])
     meta = {"env_id": env_id, "settings": settings,
             "training": {"algo": "behaviour cloning of the uncertainty policy",

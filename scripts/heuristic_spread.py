@@ -21,12 +21,14 @@ import sys
 import gymnasium as gym
 import numpy as np
 
+from hapticsim.envs.haptic_explore_v1 import encode_action_v1
 from hapticsim.envs.policies import make_policy
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 from hapticsim.envs.touch import decode_action
+from hapticsim.experiments.rllib import DEFAULT_ENV_CONFIG
 
 #: The environment of ``scripts/bc_heuristic.py`` (``learned-touch``'s training settings).
-SETTINGS = {"backend": "analytic", "objects": "random", "touch_budget": 10, "noise": 0.02}
+SETTINGS = {k: DEFAULT_ENV_CONFIG[k] for k in ("backend", "objects", "touch_budget", "noise")}
 
 
 def main() -> None:
@@ -43,8 +45,7 @@ def main() -> None:
 
     def label(action: np.ndarray) -> np.ndarray:
         t = decode_action(action, cfg.max_stroke, cfg.stroke_spacing, fingers)
-        psi = float(np.angle(np.exp(1j * t.stroke_angle)))
-        return np.array([*t.approach, psi / np.pi, 2.0 * t.stroke_length / cfg.max_stroke - 1.0])
+        return encode_action_v1(t.approach, t.stroke_angle, t.stroke_length / cfg.max_stroke)
 
     squared, angles = [], []
     for i in range(args.episodes):

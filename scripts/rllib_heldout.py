@@ -23,13 +23,12 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import wilcoxon
 
+from hapticsim.envs.haptic_explore_v1 import OBS_DIM
 from hapticsim.envs.learned import load_actor
 from hapticsim.experiments.rllib import deterministic_policy, final_epsilons
 
 #: First environment seed of the held-out objects (validation uses 10,000 + i).
 HELD_OUT_SEED = 20_000
-#: The compact environment's observation size (what the RLlib runs and the actors see).
-OBS_DIM = 85
 
 
 def _summary(values: list[float]) -> dict[str, float]:

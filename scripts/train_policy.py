@@ -309,7 +309,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import gymnasium as gym
 
-    from hapticsim.envs.learned import actor_from_sb3
+    from hapticsim.envs.learned import actor_from_sb3, recorded_settings
 
     torch.set_num_threads(args.torch_threads)  # 1: the environments use the other cores
     run = Run(args.out)
@@ -345,15 +345,9 @@ def main(argv: list[str] | None = None) -> int:
         run.log(f"started {args.algo}: {command}")
     trained_id = env_id(args)
     val_env = gym.make(trained_id, **env_kwargs(args)).unwrapped
-    settings = {
-        k: getattr(val_env.config.base, k)
-        for k in ("backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",
-                  "position_noise", "max_contacts", "support", "sensing")
-    }  # fmt: skip
-    settings.update(
-        objects=args.objects, reward=args.reward, coverage_weight=args.coverage_weight,
-        n_fingers=val_env.n_fingers,
-    )  # fmt: skip
+    settings = recorded_settings(
+        val_env, objects=args.objects, reward=args.reward, coverage_weight=args.coverage_weight
+    )
     start_wall = time.perf_counter()
     base_wall = float(state["wall_seconds"])
 

@@ -36,7 +36,8 @@ def main() -> None:
     p.add_argument("--val-episodes", type=int, default=32)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--lr-end", type=float, default=None,
-                   help="PPO: the learning rate falls linearly from 3e-4 to this by --timesteps")
+                   help=f"PPO: the learning rate falls linearly from {PPO_LR:g} to this by "
+                   "--timesteps")  # fmt: skip
     p.add_argument("--max-hours", type=float, default=None)
     p.add_argument("--out", required=True)
     args = p.parse_args()

@@ -221,6 +221,24 @@ def decode_action_v1(action: Any) -> tuple[Array, float, float]:
     return approach, float(np.pi * a[3]), float(0.5 * (a[4] + 1.0))
 
 
+def encode_action_v1(approach: Any, stroke_angle: float, stroke_fraction: float) -> Array:
+    """The v1 action that decodes to this touch (inverse of :func:`decode_action_v1`).
+
+    Args:
+        approach: (3,) approach direction (any length), object-centred frame.
+        stroke_angle: psi [rad], wrapped to [-pi, pi].
+        stroke_fraction: stroke length over ``max_stroke``, in [0, 1].
+
+    Returns:
+        (5,) float ``[approach / |approach|, psi / pi, 2 * fraction - 1]``, clipped to [-1, 1].
+    """
+
+    d = finite_array(approach, "approach", (3,))
+    d = d / max(float(np.linalg.norm(d)), 1e-12)
+    psi = float(np.angle(np.exp(1j * stroke_angle)))
+    return np.clip(np.array([*d, psi / np.pi, 2.0 * stroke_fraction - 1.0]), -1.0, 1.0)
+
+
 def finger_for_touch(touches: int, n_fingers: int) -> int:
     """The finger of the touch after `touches` touches: the fingers in turn, index finger first.
 

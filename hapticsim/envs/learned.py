@@ -60,6 +60,12 @@ SQUASHES: tuple[str, ...] = ("tanh", "clip")
 #: environments whose settings equal the trained ones (backend, objects, noise and budget may
 #: differ).
 MEANING_SETTINGS: tuple[str, ...] = ("obs_scale", "max_stroke", "stroke_spacing")
+#: The v0 settings a weight file records of the environment it was trained on
+#: (:func:`recorded_settings`).
+RECORDED_SETTINGS: tuple[str, ...] = (
+    "backend", "touch_budget", "noise", "obs_scale", "max_stroke", "stroke_spacing",
+    "position_noise", "max_contacts", "support", "sensing",
+)  # fmt: skip
 
 
 def _check_layers(layers: tuple[str, ...], params: tuple[Array, ...], width: int | None) -> None:
@@ -325,6 +331,15 @@ class Actor:
         path.parent.mkdir(parents=True, exist_ok=True)
         data = self.to_bytes()
         return atomic_write(path, lambda fh: fh.write(data), "wb")
+
+
+def recorded_settings(env: Any, **extra: Any) -> dict[str, Any]:
+    """The ``settings`` a weight file records of its training environment: the v0 settings of
+    :data:`RECORDED_SETTINGS` (of a v1-family environment's ``config.base``), then `extra`
+    (e.g. ``objects``, ``reward``), then ``n_fingers``."""
+    base = env.unwrapped
+    settings = {k: getattr(base.config.base, k) for k in RECORDED_SETTINGS}
+    return settings | extra | {"n_fingers": base.n_fingers}
 
 
 def load_actor(

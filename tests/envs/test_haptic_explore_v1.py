@@ -23,6 +23,7 @@ from hapticsim.envs.haptic_explore_v1 import (
     HapticExploreV1Config,
     HapticExploreV1Env,
     decode_action_v1,
+    encode_action_v1,
     finger_for_touch,
     v0_action,
 )
@@ -149,6 +150,19 @@ def test_decode_action_v1() -> None:
         decode_action_v1(np.zeros(4))
     with pytest.raises(InvalidInputError, match="action"):
         decode_action_v1(np.array([np.nan, 0, 0, 0, 0]))
+
+
+def test_encode_action_v1_is_the_inverse_of_decode() -> None:
+    gen = np.random.default_rng(0)
+    for _ in range(20):
+        d = gen.normal(size=3)
+        psi, frac = float(gen.uniform(-np.pi, np.pi)), float(gen.uniform(0, 1))
+        back_d, back_psi, back_frac = decode_action_v1(encode_action_v1(3.0 * d, psi, frac))
+        np.testing.assert_allclose(back_d, d / np.linalg.norm(d), atol=1e-12)
+        assert back_psi == pytest.approx(psi, abs=1e-12)
+        assert back_frac == pytest.approx(frac, abs=1e-12)
+    # psi wraps to [-pi, pi]
+    assert encode_action_v1([0, 0, 1], 3 * np.pi / 2, 1.0)[3] == pytest.approx(-0.5)
 
 
 def test_fingers_in_turn_and_the_v0_action_decodes_back() -> None:
