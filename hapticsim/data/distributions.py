@@ -86,6 +86,13 @@ class ObjectDistribution:
         """What the environment's ``objects=`` accepts (see :func:`coerce_objects`)."""
         return coerce_objects(value)
 
+    def fixed_solids(self) -> tuple[Solid, ...]:
+        """The solids :meth:`sample` returns as they are, the same instances every time: the
+        paper bodies (without a yaw range); none for the random kinds."""
+        if self.kind != "paper" or self.yaw_range > 0:
+            return ()
+        return tuple(get_body(b) for b in self.bodies)
+
     def sample(self, rng: np.random.Generator) -> Solid:
         """Draw one object.
 
@@ -150,6 +157,11 @@ class ObjectSet:
 
     def __len__(self) -> int:
         return len(self._resolved)
+
+    def fixed_solids(self) -> tuple[Solid, ...]:
+        """The solids :meth:`sample` returns as they are, the same instances every time (every
+        entry but the random ones)."""
+        return tuple(item for item in self._resolved if isinstance(item, Solid))
 
     def sample(self, rng: np.random.Generator) -> Solid:
         """Draw one object (uniformly; a random entry then draws its shape from `rng`)."""

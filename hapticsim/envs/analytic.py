@@ -29,6 +29,8 @@ The backend is the simulator: it sees the ground truth, the environment's observ
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -113,16 +115,23 @@ class AnalyticBackend(TouchBackend):
         return (self.n_fingers, *self.pad.shape)
 
     # ------------------------------------------------------------------ episode
+    def preparer(self) -> Callable[[Solid], Support]:
+        """The support under a shape (:meth:`Support.under`, ~2 ms: the shape's dense surface
+        points)."""
+        return partial(Support.under, kind=self.support_kind)
+
     def reset(
-        self, shape: Solid, rng: np.random.Generator, rough: Any = None
-    ) -> Solid:
+        self, shape: Solid, rng: np.random.Generator, rough: Any = None,
+        prepared: Support | None = None,
+    ) -> Solid:  # fmt: skip
         """Place `shape` as given (its own pose) and start a new episode.
 
         Args:
             shape: the object.
-            rng: the environment's generator (sensor noise).
+            rng: the episode's sensor stream (noise, the skin's pattern and readings).
             rough: the vision estimate (unused: ray casting needs no plan; the environment
                 aims every touch at its centre).
+            prepared: the support under `shape` (:meth:`preparer`), or None to find it here.
 
         Returns:
             the ground truth, `shape` itself.
@@ -130,7 +139,7 @@ class AnalyticBackend(TouchBackend):
         self._truth = shape
         self._rng = rng
         self._clock = 0.0
-        self._support = Support.under(shape, self.support_kind)
+        self._support = prepared if prepared is not None else self.preparer()(shape)
         if self.skin is not None:  # the episode's sensor: its gains and dead taxels
             self._pattern = self.skin.sensor.pattern((self.n_fingers, *self.pad.shape), rng)
         return shape

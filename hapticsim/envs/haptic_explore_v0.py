@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import gymnasium as gym
@@ -28,7 +29,7 @@ from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid
 from hapticsim.metrics.coverage import coverage_uncertainty
 from hapticsim.metrics.episode import TruthScorer
-from hapticsim.sim.rough import DepthCamera, vision_estimate
+from hapticsim.sim.rough import DepthCamera, RoughObject, vision_estimate
 
 Array = NDArray[np.float64]
 
@@ -36,6 +37,92 @@ Array = NDArray[np.float64]
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
+@dataclass(frozen=True)
+class EpisodeDraw:
+    """What a reset drew from the environment's generator (:meth:`EpisodeDrawer.draw`).
+
+    Attributes:
+        state: the generator's state (``bit_generator.state``) the draws started from.
+        after: its state after them.
+        fit_seed: the seed of the fitter's stream.
+        sensor_seed: the seed of the sensor's stream (noise, tactile readings).
+        shape: the object (packed for sending: its index among the distribution's fixed
+            solids, :meth:`EpisodeDrawer.pack`).
+        rough: the vision estimate, moved by the calibration error.
+        prepared: what the backend's reset makes of the shape alone
+            (:meth:`~hapticsim.envs.touch.TouchBackend.preparer`), or None.
+    """
+
+    state: dict[str, Any]
+    after: dict[str, Any]
+    fit_seed: int
+    sensor_seed: int
+    shape: Solid | int
+    rough: RoughObject
+    prepared: Any = None
+
+
+@dataclass(frozen=True)
+class EpisodeDrawer:
+    """What a reset draws from the environment's generator, in this order: the fitter's seed,
+    the object (unless given), the vision estimate (one noisy depth image; most of a reset's
+    time), the camera-to-hand calibration error and the sensor's seed. Nothing else draws from
+    that generator, so an episode's draws depend only on where the last reset left it.
+
+    Picklable, so that another process can draw an environment's next episode while the
+    environment is still busy with this one (:meth:`HapticExploreEnv.offer_draw`,
+    :class:`~hapticsim.envs.vector.HapticVectorEnv`); that process also makes what the
+    backend's reset needs of the shape alone (`prepare`).
+
+    Attributes:
+        objects: the object distribution.
+        camera: the depth camera.
+        position_noise: standard deviation per axis of the calibration error [m].
+        prepare: the backend's :meth:`~hapticsim.envs.touch.TouchBackend.preparer`, or None.
+    """
+
+    objects: ObjectDistribution
+    camera: DepthCamera
+    position_noise: float
+    prepare: Callable[[Solid], Any] | None = None
+
+    def draw(self, rng: np.random.Generator, shape: Solid | None = None) -> EpisodeDraw:
+        """An episode's draws from `rng` (`shape`: the object, else one drawn). To draw ahead,
+        pass a copy of the environment's generator."""
+        state = rng.bit_generator.state
+        fit_seed = int(rng.integers(2**63))
+        if shape is None:
+            shape = self.objects.sample(rng)
+        rough = vision_estimate(shape, rng, self.camera)
+        error = rng.normal(0.0, self.position_noise, size=3)
+        sensor_seed = int(rng.integers(2**63))
+        prepared = None if self.prepare is None else self.prepare(shape)
+        return EpisodeDraw(state, rng.bit_generator.state, fit_seed, sensor_seed, shape,
+                           rough.moved(rough.center + error), prepared)  # fmt: skip
+
+    def pack(self, draw: EpisodeDraw) -> EpisodeDraw:
+        """`draw` for sending to another process: an object the distribution returns as it is
+        (:meth:`~hapticsim.data.distributions.ObjectSet.fixed_solids`, e.g. a mesh) replaced by
+        its index, so that it is not copied and :meth:`unpack` gives back the same instance
+        (whose scene and scorer the environment may have cached)."""
+        for i, solid in enumerate(self.objects.fixed_solids()):
+            if draw.shape is solid:
+                return replace(draw, shape=i)
+        return draw
+
+    def unpack(self, draw: EpisodeDraw) -> EpisodeDraw:
+        """The inverse of :meth:`pack`, with this drawer's own instances."""
+        if isinstance(draw.shape, (int, np.integer)):
+            fixed = self.objects.fixed_solids()
+            if not 0 <= draw.shape < len(fixed):
+                raise InvalidInputError(
+                    f"`draw.shape` must be a solid or an index below {len(fixed)}, got "
+                    f"{draw.shape}"
+                )
+            return replace(draw, shape=fixed[int(draw.shape)])
+        return draw
+
+
 @dataclass(frozen=True)
 class HapticExploreConfig:
     """Everything that defines the environment (the keyword arguments of the constructor).
@@ -323,6 +410,11 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
         width, height = self.config.camera_size
         self._camera = DepthCamera(width=width, height=height)
+        self._drawer = EpisodeDrawer(self.config.objects, self._camera,
+                                     self.config.position_noise, self._backend.preparer())
+        self._ahead: EpisodeDraw | None = None
+        #: resets that used draws made ahead (:meth:`offer_draw`)
+        self.resets_drawn_ahead = 0
         self.n_fingers = int(self._backend.n_fingers)
         self._fitter = IncrementalFitter(self.config.fit)
 
@@ -411,34 +503,58 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             return np.zeros((0, 3)), np.zeros((0, 3))
         return np.concatenate(self._points), np.concatenate(self._normals)
 
+    @property
+    def drawer(self) -> EpisodeDrawer:
+        """What a reset draws before the backend builds the episode (picklable)."""
+        return self._drawer
+
+    def offer_draw(self, draw: EpisodeDraw) -> None:
+        """Give the next reset its draws, made ahead (:meth:`EpisodeDrawer.draw` on a copy of
+        :attr:`np_random`, packed or not: :meth:`EpisodeDrawer.pack`). That reset uses them only
+        if it is given no shape and finds the generator in the state they start from (after
+        any seeding); otherwise it draws its own. Either way its results are the same, bit for
+        bit; only its time differs."""
+        if not isinstance(draw, EpisodeDraw):
+            raise InvalidInputError(f"`draw` must be an EpisodeDraw, got {type(draw).__name__}")
+        self._ahead = self._drawer.unpack(draw)
+
     # ------------------------------------------------------------------ gymnasium API
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         """Start an episode on a new object (see the class docstring)."""
         super().reset(seed=seed)
-        # The fitter's seeds come from a stream of their own: an episode's object, noise and
-        # rough position (and, for a policy that ignores the estimate, its contacts) do not
-        # depend on how many fits ran, so two fitters can be compared on the same contacts.
-        self._fit_rng = np.random.default_rng(int(self.np_random.integers(2**63)))
         options = options or {}
         shape = options.get("shape")
-        if shape is None:
-            shape = self.config.objects.sample(self.np_random)
-        elif not isinstance(shape, Solid):
+        if shape is not None and not isinstance(shape, Solid):
             raise InvalidInputError(
                 "`options['shape']` must be a solid (Superquadric, SuperquadricUnion or "
                 f"MeshSolid), got {type(shape).__name__}"
             )
         self._clear()
         self._fitter.reset()
-
-        # what the robot knows before touching: one depth image's estimate, off by the
-        # camera-to-hand calibration error
-        rough = vision_estimate(shape, self.np_random, self._camera)
-        error = self.np_random.normal(0.0, self.config.position_noise, size=3)
-        self._rough = rough.moved(rough.center + error)
-        self._truth = self._backend.reset(shape, self.np_random, rough=self._rough)
+        # What the robot knows before touching: one depth image's estimate, off by the
+        # camera-to-hand calibration error. The fitter and the sensor draw from streams of their
+        # own, seeded here: an episode's object, noise and rough position (and, for a policy
+        # that ignores the estimate, its contacts) do not depend on how many fits ran, so two
+        # fitters can be compared on the same contacts; and the next episode's object does not
+        # depend on how many contacts this one made, so every policy meets the same objects.
+        # The draws are made here, or ahead by another process from the state the generator
+        # is in now (then they are the same numbers, bit for bit).
+        ahead, self._ahead = self._ahead, None
+        state = self.np_random.bit_generator.state
+        if ahead is not None and shape is None and ahead.state == state:
+            drawn = ahead
+            self.np_random.bit_generator.state = ahead.after
+            self.resets_drawn_ahead += 1
+        else:
+            drawn = self._drawer.draw(self.np_random, shape)
+        self._fit_rng = np.random.default_rng(drawn.fit_seed)
+        self._rough = drawn.rough
+        self._truth = self._backend.reset(
+            drawn.shape, np.random.default_rng(drawn.sensor_seed), rough=self._rough,
+            prepared=drawn.prepared,
+        )
         self._origin = self._rough.center.copy()
         info = self._info(TouchResult.empty("ok"), 0.0, 0.0, 0.0)
         return self._observation(), info

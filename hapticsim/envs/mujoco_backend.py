@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -123,17 +124,19 @@ class MujocoBackend(TouchBackend):
 
     # ------------------------------------------------------------------ episode
     def reset(
-        self, shape: Solid, rng: np.random.Generator, rough: RoughObject | None = None
-    ) -> Solid:
+        self, shape: Solid, rng: np.random.Generator, rough: RoughObject | None = None,
+        prepared: Any = None,
+    ) -> Solid:  # fmt: skip
         """Build the scene for `shape` (placed as given, on a stand above the table).
 
         Args:
             shape: the object.
-            rng: the environment's generator (sensor noise; the vision estimate when `rough`
-                is None).
+            rng: the episode's sensor stream (noise, tactile readings; the vision estimate
+                when `rough` is None).
             rough: what the palm planner knows (the environment's vision estimate at its rough
                 position); None: a vision estimate of its own
                 (:func:`~hapticsim.sim.rough.vision_estimate`).
+            prepared: unused (the hand's scene comes from its own cache).
 
         Returns:
             the ground truth, `shape` itself.

@@ -30,6 +30,7 @@ A backend (:class:`TouchBackend`) executes touches: the analytic ray caster
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -245,7 +246,7 @@ class TouchBackend:
     environment and returns the ground truth as placed in its world. It keeps the support that
     holds the object in the episode (``self._support``, set in ``reset``: touches that would
     hit it are unreachable) and adds the sensor noise of its level to the contacts
-    (``noise``, sigma_N, at the truth's size, from the episode's generator ``self._rng``).
+    (``noise``, sigma_N, at the truth's size, from the episode's sensor stream ``self._rng``).
     """
 
     #: Number of fingers (action component 4 selects one).
@@ -257,15 +258,22 @@ class TouchBackend:
     _rng: Any = None
 
     def reset(
-        self, shape: Solid, rng: np.random.Generator, rough: Any = None
+        self, shape: Solid, rng: np.random.Generator, rough: Any = None, prepared: Any = None
     ) -> Solid:
         """Start an episode on `shape`; return the ground truth in the backend's world frame.
 
         `rough` (:class:`hapticsim.sim.rough.RoughObject`) is what the planner knows: the vision
         estimate, centred at the rough position the environment will aim at; a backend that
-        plans (the hand) plans on it.
+        plans (the hand) plans on it. `prepared`: what :meth:`preparer` made of `shape`, or
+        None (then reset makes it).
         """
         raise NotImplementedError
+
+    def preparer(self) -> Callable[[Solid], Any] | None:
+        """The part of :meth:`reset` that depends on the shape alone, as a picklable function
+        whose result `reset` takes as `prepared` (so that it can be made ahead, in another
+        process, with the episode's draws); None when there is none worth moving."""
+        return None
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one touch aimed at `origin` (3,) [m, world], the object's rough position."""

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import pickle
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -312,3 +316,100 @@ def test_the_fitter_draws_from_a_stream_of_its_own() -> None:
     assert np.array_equal(origin_a, origin_b) and np.array_equal(points_a, points_b)
     assert len(points_a) > 13  # enough contacts for fits to have run
     assert not np.array_equal(rec_a.epsilon, rec_b.epsilon)  # the fits themselves differ
+
+
+def test_the_next_object_does_not_depend_on_the_last_episode() -> None:
+    # The sensor draws from a stream of its own too: the objects of a seeded run's later
+    # episodes (autoresets without seed) are the same whatever the policy touched, and however
+    # many noisy contacts that made.
+    truths = []
+    for action_seed in (0, 1):
+        env = make(objects="random", noise=0.05, touch_budget=3)
+        rng = np.random.default_rng(action_seed)
+        env.reset(seed=11)
+        seen = []
+        for _ in range(3):
+            for _ in range(3):
+                env.step(rng.uniform(-1, 1, 5).astype(np.float32))
+            seen.append((len(env.contacts.points), env.truth))
+            env.reset()
+        seen.append((0, env.truth))
+        truths.append(seen)
+        env.close()
+    assert [t for _, t in truths[0]] == [t for _, t in truths[1]]
+    assert [n for n, _ in truths[0]] != [n for n, _ in truths[1]]  # the episodes differed
+
+
+def _episode(env: HapticExploreEnv, seed: int | None, actions: np.ndarray) -> list[object]:
+    obs, info = env.reset(seed=seed)
+    out: list[object] = [obs, info["truth"], info["origin"]]
+    for a in actions:
+        obs, reward, *_ = env.step(a)
+        out += [obs, reward]
+    return out
+
+
+@pytest.mark.parametrize("objects", ["paper", "random"])
+def test_a_draw_made_ahead_gives_the_same_episode(objects: str) -> None:
+    actions = np.random.default_rng(5).uniform(-1, 1, (4, 5)).astype(np.float32)
+    runs, used = [], []
+    for ahead in (False, True):
+        env = make(objects=objects, noise=0.05)
+        _episode(env, 8, actions)
+        if ahead:  # drawn from a copy, packed and sent as to another process
+            draw = env.drawer.draw(copy.deepcopy(env.np_random))
+            env.offer_draw(pickle.loads(pickle.dumps(env.drawer.pack(draw))))
+        runs.append(_episode(env, None, actions))
+        used.append(env.resets_drawn_ahead)
+        env.close()
+    assert used == [0, 1]
+    for x, y in zip(*runs, strict=True):
+        if isinstance(x, dict):
+            for k in x:
+                np.testing.assert_array_equal(x[k], y[k], err_msg=k)
+        else:
+            assert np.array_equal(x, y) if isinstance(x, np.ndarray) else x == y
+
+
+def test_a_draw_from_elsewhere_is_ignored() -> None:
+    env = make()
+    env.reset(seed=0)
+    stale = env.drawer.draw(copy.deepcopy(env.np_random))
+    env.reset()  # the generator has moved on
+    expected = env.drawer.draw(copy.deepcopy(env.np_random))
+    env.offer_draw(stale)
+    _, info = env.reset()
+    assert env.resets_drawn_ahead == 0 and info["truth"] is expected.shape
+    env.offer_draw(env.drawer.draw(copy.deepcopy(env.np_random)))
+    env.reset(seed=3)  # seeded elsewhere: its own draws
+    assert env.resets_drawn_ahead == 0
+    with pytest.raises(InvalidInputError, match="EpisodeDraw"):
+        env.offer_draw("draw")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="index below 4"):
+        env.offer_draw(dataclasses.replace(expected, shape=7))
+
+
+def test_fixed_solids_pack_to_their_index() -> None:
+    from hapticsim.data.bodies import BODY_NAMES, get_body
+    from hapticsim.data.distributions import ObjectDistribution, ObjectSet
+
+    assert ObjectDistribution("paper").fixed_solids() == tuple(get_body(b) for b in BODY_NAMES)
+    assert ObjectDistribution("paper", yaw_range=0.5).fixed_solids() == ()
+    assert ObjectDistribution("random").fixed_solids() == ()
+    box = Superquadric(a=(0.02, 0.03, 0.04), eps=(0.5, 0.5), center=(0.0, 0.0, 0.1))
+    assert ObjectSet(("cube", "random", box)).fixed_solids()[1] is box
+    env = make(objects=["random", box])
+    env.reset(seed=0)
+    kinds = set()
+    for _ in range(8):
+        draw = env.drawer.draw(copy.deepcopy(env.np_random))
+        packed = env.drawer.pack(draw)
+        kinds.add(draw.shape is box)
+        restored = env.drawer.unpack(pickle.loads(pickle.dumps(packed))).shape
+        if draw.shape is box:  # sent as its index, back as the same instance
+            assert packed.shape == 0 and restored is box
+        else:  # sent whole
+            assert packed.shape is draw.shape and restored == draw.shape
+        env.reset()
+    assert kinds == {True, False}  # both the fixed box and random shapes came up
+    env.close()
