@@ -12,6 +12,14 @@ Why processes and not threads: the compiled kernels release the GIL, but half of
 step is Python (the touch's section walk, the fitter's driver, the observation), so a pool of
 two threads stepping 8 environments gives 1.31x one (analytic; ``docs/vector.md``).
 
+What a worker does while it waits for the others: each worker has a helper process at idle
+priority (Linux ``SCHED_IDLE``) that draws its environments' next episodes ahead, the object
+and its vision estimate (:class:`~hapticsim.envs.haptic_explore_v0.EpisodeDrawer`, most of a
+reset's time), from a copy of each environment's generator, which nothing touches between two
+resets; a reset that finds its draw ready skips that work, one that does not draws its own.
+The workers run as ``SCHED_BATCH`` processes, whose wakeups do not preempt this process, so
+every worker has its actions before any starts. Neither changes a result.
+
 Each environment is made by ``gym.make(env_id, **kwargs)`` in its worker, as Gymnasium's
 ``SyncVectorEnv`` makes it, and seeded as there (``reset(seed=s)`` seeds environment i with
 ``s + i``), so every environment of the batch gives the results it gives alone, bit for bit
@@ -25,7 +33,7 @@ import multiprocessing
 import os
 import traceback
 from copy import deepcopy
-from multiprocessing.connection import Connection
+from multiprocessing.connection import Connection, wait
 from typing import Any
 
 import gymnasium as gym
@@ -34,6 +42,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array, iterate
 
 from hapticsim._validate import positive_int
+from hapticsim.envs.haptic_explore_v0 import EpisodeDraw, HapticExploreEnv
 from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.parallel.base import RemoteTraceback, limit_threads
 
@@ -44,6 +53,8 @@ EPISODE_CONSTANT_INFO: tuple[str, ...] = ("truth",)
 _SAME = "__hapticsim_same__"
 #: Seconds to wait for a worker to shut down before it is terminated.
 CLOSE_TIMEOUT: float = 10.0
+#: Seconds to wait for a worker's helper (which holds nothing to save) before it is terminated.
+HELPER_CLOSE_TIMEOUT: float = 1.0
 
 
 class VectorEnvError(HapticsimError):
@@ -72,13 +83,89 @@ def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
     raise InvalidInputError(f"`autoreset_mode` must be one of {choices}, got {value!r}")
 
 
+def _explore_core(env: gym.Env) -> HapticExploreEnv | None:
+    """The :class:`HapticExploreEnv` that runs inside `env` (itself, or the ``base`` of v1 and
+    the touch environments), or None."""
+    inner: Any = env.unwrapped
+    while not isinstance(inner, HapticExploreEnv):
+        inner = getattr(inner, "base", None)
+        if inner is None:
+            return None
+    return inner
+
+
+def _batch_priority() -> None:
+    """Let this process's wakeups not preempt the running one (Linux ``SCHED_BATCH``: the same
+    share of the cores, only no preemption on wakeup; elsewhere nothing)."""
+    try:
+        os.sched_setscheduler(0, os.SCHED_BATCH, os.sched_param(0))  # type: ignore[attr-defined]
+    except (AttributeError, OSError):
+        pass
+
+
+def _idle_priority() -> None:
+    """Run this process only on a core nobody else wants (Linux ``SCHED_IDLE``; elsewhere the
+    lowest nice level)."""
+    try:
+        os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))  # type: ignore[attr-defined]
+    except (AttributeError, OSError):
+        try:
+            os.nice(19)
+        except (AttributeError, OSError):
+            pass
+
+
+def _draw_ahead(conn: Connection, other_end: Connection | None = None) -> None:
+    """A worker's helper process: draw its environments' next episodes
+    (:meth:`~hapticsim.envs.haptic_explore_v0.EpisodeDrawer.draw`) at idle priority, so that
+    the vision estimate a reset needs is made while the worker waits for the other shards.
+
+    Messages: ``("drawers", {j: drawer})`` once, then ``("draw", j, generator)``; answers
+    ``(j, draw)``. Of several requests for one environment only the newest is drawn. A draw
+    that fails is not answered: the reset draws itself and raises there. `other_end` (the
+    worker's end of the pipe, inherited by a forked helper) is closed at once, so that the
+    helper sees the pipe end when the worker does.
+    """
+    if other_end is not None:
+        other_end.close()
+    _idle_priority()
+    limit_threads()
+    drawers: dict[int, Any] = {}
+    while True:
+        try:
+            pending = [conn.recv()]
+            while conn.poll():
+                pending.append(conn.recv())
+        except (EOFError, OSError, KeyboardInterrupt):
+            break
+        requests: dict[int, Any] = {}
+        for message in pending:
+            if message[0] == "drawers":
+                drawers = message[1]
+            else:
+                requests[message[1]] = message[2]
+        for j, rng in requests.items():
+            try:
+                draw = drawers[j].pack(drawers[j].draw(rng))
+            except Exception:  # noqa: BLE001, S112 - the reset will draw itself and report it
+                continue
+            try:
+                conn.send((j, draw))
+            except (OSError, EOFError):
+                return
+    conn.close()
+
+
 class _Shard:
     """Environments stepped one after the other (in a worker process, or in this one)."""
 
     def __init__(self, env_id: str, kwargs: dict[str, Any], size: int, mode: AutoresetMode,
-                 first: int = 0) -> None:  # fmt: skip
+                 first: int = 0, helper: Connection | None = None) -> None:  # fmt: skip
         # (importing this module imported hapticsim, which registered the ids)
         self.env_id, self.kwargs, self.size = env_id, kwargs, size
+        #: the pipe to the process that draws the environments' next episodes ahead, or None
+        self.helper = helper
+        self._cores: list[HapticExploreEnv | None] = []
         self.first = first  # index of the shard's first environment in the batch
         self.current = first  # the environment being made or stepped (named in errors)
         self.envs: list[gym.Env] = []
@@ -91,7 +178,47 @@ class _Shard:
         for j in range(self.size):
             self.current = self.first + j
             self.envs.append(gym.make(self.env_id, **self.kwargs))
+        self._cores = [_explore_core(env) for env in self.envs]
+        drawers = {j: core.drawer for j, core in enumerate(self._cores) if core is not None}
+        if drawers:
+            self._to_helper("drawers", drawers)
+        else:
+            self.helper = None
         return []
+
+    # ------------------------------------------------------------------ draws ahead
+    def _to_helper(self, *message: Any) -> None:
+        if self.helper is None:
+            return
+        try:
+            self.helper.send(message)
+        except (OSError, EOFError):  # the helper is gone: every reset draws its own
+            self.helper = None
+
+    def _ask_ahead(self, j: int) -> None:
+        """Ask the helper for environment j's next episode, drawn from a copy of its generator
+        as it is now (nothing else draws from it until the next reset; a reset that is seeded
+        or given a shape draws its own)."""
+        core = self._cores[j] if self._cores else None
+        if self.helper is not None and core is not None:
+            self._to_helper("draw", j, core.np_random)
+
+    def collect(self) -> None:
+        """Hand the draws the helper has finished to their environments (without waiting)."""
+        try:
+            while self.helper is not None and self.helper.poll():
+                j, draw = self.helper.recv()
+                core = self._cores[j]
+                if core is not None and isinstance(draw, EpisodeDraw):
+                    core.offer_draw(draw)
+        except (OSError, EOFError):
+            self.helper = None
+
+    def _reset_env(self, j: int, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        self.collect()
+        out = self.envs[j].reset(**kwargs)
+        self._ask_ahead(j)
+        return out
 
     def _pack(self, j: int, info: dict[str, Any]) -> dict[str, Any]:
         """`info` with the episode-constant values already sent replaced by a marker."""
@@ -105,12 +232,12 @@ class _Shard:
 
     def reset(self, seeds: list[int | None], options: dict[str, Any] | None, mask: list[bool]):
         out = []
-        for j, (env, seed, on) in enumerate(zip(self.envs, seeds, mask, strict=True)):
+        for j, (seed, on) in enumerate(zip(seeds, mask, strict=True)):
             if not on:
                 out.append(None)
                 continue
             self.current = self.first + j
-            obs, info = env.reset(seed=seed, options=options)
+            obs, info = self._reset_env(j, seed=seed, options=options)
             self.autoreset[j] = False
             out.append((obs, self._pack(j, info)))
         return out
@@ -119,13 +246,13 @@ class _Shard:
         env = self.envs[j]
         extra: dict[str, Any] = {}
         if self.mode == AutoresetMode.NEXT_STEP and self.autoreset[j]:
-            obs, info = env.reset()
+            obs, info = self._reset_env(j)
             reward, terminated, truncated = 0.0, False, False
         else:
             obs, reward, terminated, truncated, info = env.step(action)
             if self.mode == AutoresetMode.SAME_STEP and (terminated or truncated):
                 extra = {"final_obs": obs, "final_info": info}
-                obs, info = env.reset()
+                obs, info = self._reset_env(j)
         self.autoreset[j] = bool(terminated or truncated)
         return obs, float(reward), bool(terminated), bool(truncated), extra, info
 
@@ -170,14 +297,19 @@ def _failure(index: int, exc: BaseException) -> tuple[int, bool, str, str, str]:
 
 
 def _serve(conn: Connection, env_id: str, kwargs: dict[str, Any], size: int, mode: str,
-           first: int) -> None:  # fmt: skip
-    """A worker process: answer the vector environment's commands until told to close."""
+           first: int, helper: Connection | None = None, batch: bool = False) -> None:  # fmt: skip
+    """A worker process: answer the vector environment's commands until told to close; while
+    waiting for one, take in the draws its helper process (if any) has finished."""
     # One BLAS/OpenMP thread per worker, as in hapticsim's other process pools: the workers
     # already fill the cores (on 2 cores and 8 environments no difference was measurable).
     limit_threads()
-    shard = _Shard(env_id, kwargs, size, AutoresetMode(mode), first)
+    if batch:
+        _batch_priority()
+    shard = _Shard(env_id, kwargs, size, AutoresetMode(mode), first, helper)
     while True:
         try:
+            while shard.helper is not None and conn not in wait([conn, shard.helper]):
+                shard.collect()
             command, data = conn.recv()
         except (EOFError, KeyboardInterrupt):
             break
@@ -196,14 +328,26 @@ class _Remote:
     """A shard in a worker process (same commands as :class:`_Shard`, sent through a pipe)."""
 
     def __init__(self, context: Any, env_id: str, kwargs: dict[str, Any], size: int,
-                 mode: AutoresetMode, first: int, name: str) -> None:  # fmt: skip
+                 mode: AutoresetMode, first: int, name: str, ahead: bool,
+                 batch: bool) -> None:  # fmt: skip
         self.conn, child = context.Pipe()
+        self.helper = None
+        worker_end = helper_end = None
+        if ahead:  # (started by us: a worker, a daemon, may not start processes)
+            worker_end, helper_end = context.Pipe()
+            self.helper = context.Process(target=_draw_ahead, args=(helper_end, worker_end),
+                                          name=f"{name}-ahead", daemon=True)  # fmt: skip
+            self.helper.start()
+            helper_end.close()
         self.process = context.Process(
-            target=_serve, args=(child, env_id, kwargs, size, mode.value, first), name=name,
-            daemon=True,
+            target=_serve,
+            args=(child, env_id, kwargs, size, mode.value, first, worker_end, batch),
+            name=name, daemon=True,
         )  # fmt: skip
         self.process.start()
         child.close()
+        if worker_end is not None:
+            worker_end.close()
         self.name = name
 
     def send(self, command: str, *data: Any) -> None:
@@ -244,6 +388,11 @@ class _Remote:
             self.process.terminate()
             self.process.join()
         self.conn.close()
+        if self.helper is not None:  # it ends when the worker's end of its pipe closes
+            self.helper.join(HELPER_CLOSE_TIMEOUT)
+            if self.helper.is_alive():
+                self.helper.terminate()
+                self.helper.join()
 
 
 class _Local:
@@ -299,6 +448,16 @@ class HapticVectorEnv(VectorEnv):
         context: how worker processes start (``"fork"``, ``"spawn"``, ``"forkserver"``); default
             the platform's (as Gymnasium's ``AsyncVectorEnv``). With ``"spawn"`` a script that
             makes the vector environment needs an ``if __name__ == "__main__":`` guard.
+        draw_ahead: give each worker a helper process that draws its environments' next
+            episodes (the object and its vision estimate, most of a reset's time) at idle
+            priority (Linux ``SCHED_IDLE``), while the worker waits for the other shards
+            (default True; no effect with ``workers=0``). Results are the same either way, bit
+            for bit; a reset whose draw is not ready, or that is seeded or given a shape, draws
+            its own.
+        batch_scheduling: run the workers as Linux ``SCHED_BATCH`` processes (default True;
+            elsewhere no effect): the same share of the cores, but a worker woken by its actions
+            does not preempt this process, which so sends every worker its actions before any
+            starts (analytic, 2 cores: about 5 % more steps per second).
         **kwargs: the environments' settings (``backend``, ``objects``, ``touch_budget``, ...).
     """
 
@@ -310,6 +469,8 @@ class HapticVectorEnv(VectorEnv):
         autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
         copy: bool = True,
         context: str | None = None,
+        draw_ahead: bool = True,
+        batch_scheduling: bool = True,
         **kwargs: Any,
     ) -> None:
         self._shards: list[Any] = []  # (before any check: Gymnasium's __del__ closes us)
@@ -320,6 +481,9 @@ class HapticVectorEnv(VectorEnv):
         if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 0:
             raise InvalidInputError(f"`workers` must be None or an int >= 0, got {workers!r}")
         mode = _autoreset_mode(autoreset_mode)
+        for name, flag in (("draw_ahead", draw_ahead), ("batch_scheduling", batch_scheduling)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise InvalidInputError(f"`{name}` must be True or False, got {flag!r}")
         if context is not None and context not in multiprocessing.get_all_start_methods():
             raise InvalidInputError(
                 f"`context` must be None or one of {multiprocessing.get_all_start_methods()}, "
@@ -344,7 +508,8 @@ class HapticVectorEnv(VectorEnv):
                 for w, size in enumerate(sizes):
                     first = int(self._bounds[w])
                     self._shards.append(_Remote(start, self.env_id, kwargs, size, mode, first,
-                                                f"{w}"))  # fmt: skip
+                                                f"{w}", bool(draw_ahead),
+                                                bool(batch_scheduling)))  # fmt: skip
             self._ask("make", [()] * len(self._shards))
             self._shards[0].send("spaces")
             obs_space, action_space, fps = self._shards[0].receive()
@@ -366,23 +531,30 @@ class HapticVectorEnv(VectorEnv):
         """Send a command to every shard (all at once), then gather their answers in order."""
         if self.closed:
             raise InvalidInputError("the vector environment is closed")
-        error = None
-        sent = []
-        for shard, data in zip(self._shards, per_shard, strict=True):
+        errors: dict[int, HapticsimError] = {}
+        sent: dict[int, Any] = {}
+        for k, (shard, data) in enumerate(zip(self._shards, per_shard, strict=True)):
             try:
                 shard.send(command, *data)
-                sent.append(shard)
+                sent[k] = shard
             except HapticsimError as exc:
-                error = error or exc
-        out: list[Any] = []
-        for shard in sent:
+                errors[k] = exc
+        # Each worker's answer is read (and unpickled) as soon as it is sent, while the other
+        # workers still step; all are read, so that the pipes stay in step after an error.
+        answers: dict[int, list[Any]] = {}
+        waiting = {shard.conn: k for k, shard in sent.items() if isinstance(shard, _Remote)}
+        order = [k for k, shard in sent.items() if not isinstance(shard, _Remote)]
+        while order or waiting:
+            if not order:
+                order = [waiting.pop(conn) for conn in wait(list(waiting))]
+            k = order.pop(0)
             try:
-                out.extend(shard.receive())
-            except HapticsimError as exc:  # read the others' answers too: the pipes stay in step
-                error = error or exc
-        if error is not None:
-            raise error
-        return out
+                answers[k] = sent[k].receive()
+            except HapticsimError as exc:
+                errors[k] = exc
+        if errors:  # the first shard's error, whichever answered first
+            raise errors[min(errors)]
+        return [item for k in range(len(self._shards)) for item in answers[k]]
 
     def _split(self, items: Any) -> list[Any]:
         return [items[a:b] for a, b in zip(self._bounds[:-1], self._bounds[1:], strict=True)]

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import time
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -106,6 +109,91 @@ def test_native_matches_sync_bit_for_bit(workers: int) -> None:
     _assert_same(sync, native)
 
 
+def _wait_for_draws(envs: gym.vector.VectorEnv, timeout: float = 60.0) -> None:
+    """Wait until every environment holds its next episode's draws (the helpers run at idle
+    priority: on a busy machine they may take a while)."""
+    end = time.monotonic() + timeout
+    while any(d is None for d in envs.get_attr("_ahead")):
+        assert time.monotonic() < end, "the helpers drew nothing in time"
+        time.sleep(0.02)
+
+
+def _paced_rollout(envs: gym.vector.VectorEnv, steps: int, ahead: bool) -> list[object]:
+    """A rollout as :func:`_rollout`; with `ahead`, each vector step waits until the helpers
+    have drawn every environment's next episode (as a learner's update gives them time to)."""
+    obs, info = envs.reset(seed=5)
+    out: list[object] = [obs]
+    rng = np.random.default_rng(4)
+    for _ in range(steps):
+        if ahead:
+            _wait_for_draws(envs)
+        obs, reward, terminated, truncated, info = envs.step(
+            rng.uniform(-1, 1, (envs.num_envs, 5)).astype(np.float32)
+        )
+        out += [obs, reward, terminated, truncated, info["epsilon"].copy()]
+    return out
+
+
+@pytest.mark.parametrize(
+    "settings",
+    [{}, {"noise": 0.1, "objects": "random"}, {"sensing": "tactile", "objects": "random_tapered"}],
+)
+def test_episodes_drawn_ahead_are_the_episodes_drawn_alone(settings: dict) -> None:
+    """With time to draw ahead, resets take their draws from the helpers (counted), and every
+    environment still gives what SyncVectorEnv gives, bit for bit: paper bodies (sent as their
+    index), random objects (sent whole), sensor noise and tactile sensing (their own streams,
+    which leave the environment's generator alone during an episode)."""
+    kwargs = KWARGS | settings
+    sync = gym.make_vec(HAPTIC_EXPLORE_ID, 3, vectorization_mode="sync", **kwargs)
+    expected = _paced_rollout(sync, 14, ahead=False)
+    sync.close()
+    native = gym.make_vec(HAPTIC_EXPLORE_ID, 3, workers=2, **kwargs)
+    got = _paced_rollout(native, 14, ahead=True)
+    drawn_ahead = native.get_attr("resets_drawn_ahead")
+    native.close()
+    _assert_same(expected, got)
+    assert drawn_ahead == (2, 2, 2)  # budget 4: autoresets at steps 5 and 10, both drawn ahead
+
+
+def test_without_drawing_ahead_no_reset_is_drawn_ahead() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, draw_ahead=False,
+                        batch_scheduling=False, **KWARGS)  # fmt: skip
+    _paced_rollout(envs, 6, ahead=False)
+    assert envs.get_attr("resets_drawn_ahead") == (0, 0)
+    assert all(shard.helper is None for shard in envs._shards)
+    envs.close()
+
+
+@pytest.mark.skipif(not hasattr(os, "sched_getscheduler"), reason="Linux scheduling policies")
+def test_workers_run_as_batch_and_helpers_as_idle_processes() -> None:
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    envs.step(np.zeros((2, 5), np.float32))  # the helpers have set their policy by now
+    for shard in envs._shards:
+        assert os.sched_getscheduler(shard.process.pid) == os.SCHED_BATCH
+        assert os.sched_getscheduler(shard.helper.pid) == os.SCHED_IDLE
+    envs.close()
+    plain = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, batch_scheduling=False, **KWARGS)
+    plain.reset(seed=0)
+    assert os.sched_getscheduler(plain._shards[0].process.pid) == os.SCHED_OTHER
+    plain.close()
+
+
+def test_a_dead_helper_only_stops_drawing_ahead() -> None:
+    """A worker whose helper died draws its own episodes: same results, no error."""
+    sync = gym.make_vec(HAPTIC_EXPLORE_ID, 2, vectorization_mode="sync", **KWARGS)
+    expected = _paced_rollout(sync, 12, ahead=False)
+    sync.close()
+    envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
+    for shard in envs._shards:
+        shard.helper.kill()
+        shard.helper.join()
+    got = _paced_rollout(envs, 12, ahead=False)
+    assert envs.get_attr("resets_drawn_ahead") == (0, 0)
+    envs.close()
+    _assert_same(expected, got)
+
+
 def test_same_step_autoreset_matches_sync() -> None:
     def rollout(envs: gym.vector.VectorEnv) -> list[object]:
         envs.reset(seed=7)
@@ -198,6 +286,8 @@ def test_a_dead_worker_is_reported() -> None:
         ({"num_envs": 2, "workers": -1}, "workers"),
         ({"num_envs": 2, "autoreset_mode": "sometimes"}, "autoreset_mode"),
         ({"num_envs": 2, "context": "teleport"}, "context"),
+        ({"num_envs": 2, "draw_ahead": "yes"}, "draw_ahead"),
+        ({"num_envs": 2, "batch_scheduling": 1}, "batch_scheduling"),
         ({"num_envs": 2, "touch_budget": 0}, "environment 0: .*touch_budget"),
         ({"num_envs": 2, "workers": 0, "touch_budget": 0}, "environment 0: .*touch_budget"),
     ],
