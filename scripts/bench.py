@@ -266,7 +266,7 @@ def section_env(args: argparse.Namespace) -> dict[str, Any]:
         out[backend] = benchmark_env(backend, episodes) | {"load": _load()}
         out[f"{backend}_vector"] = benchmark_vector_env(
             backend, args.num_envs,
-            args.vector_steps if backend == "analytic" else args.vector_steps // 4,
+            args.vector_steps if backend == "analytic" else args.vector_steps // 2,
         ) | {"load": _load()}  # fmt: skip
     return out
 
@@ -378,7 +378,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--backends", nargs="+", default=["analytic", "mujoco"])
     parser.add_argument("--env-episodes", type=int, default=20, help="env: analytic episodes")
     parser.add_argument("--mujoco-episodes", type=int, default=5, help="env: MuJoCo episodes")
-    parser.add_argument("--vector-steps", type=int, default=1600, help="env: steps per variant")
+    parser.add_argument("--vector-steps", type=int, default=1600,
+                        help="env: analytic steps per variant (MuJoCo: half)")  # fmt: skip
     parser.add_argument("--num-envs", type=int, default=8, help="env: vector environments' N")
     args = parser.parse_args(argv)
     names = list(SECTIONS) if "all" in args.section else args.section

@@ -1,7 +1,8 @@
 """Vector environments against one environment, in turn in the same run: JSON on stdout.
 
 Per backend: one environment; hapticsim's vector environment with one worker per core
-(``native``) and with more workers than cores (``native:W``); Gymnasium's ``AsyncVectorEnv``;
+(``native``), without drawing episodes ahead and batch scheduling (``native_plain``) and with
+more workers than cores (``native:W``); Gymnasium's ``AsyncVectorEnv``;
 the N environments stepped by a thread pool in one process (``threads``); two free-running
 processes; and the shard estimate (:func:`hapticsim.benchmarks.env.shard_estimate`). The
 numbers of ``docs/vector.md``::
@@ -26,7 +27,8 @@ def main() -> None:
     p.add_argument("--steps", type=int, default=1600,
                    help="analytic steps per variant (MuJoCo: a quarter)")  # fmt: skip
     p.add_argument("--repeats", type=int, default=3)
-    p.add_argument("--variants", nargs="+", default=["native", "native:4", "async", "threads"])
+    p.add_argument("--variants", nargs="+", default=["native", "native_plain", "native:4", "async",
+                                                    "threads"])
     args = p.parse_args()
     out = {"command": "python " + " ".join(sys.argv), "cpus": os.cpu_count()}
     for backend in args.backends:

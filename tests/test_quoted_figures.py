@@ -120,3 +120,28 @@ def test_the_behaviour_cloning_table_is_its_results() -> None:
         assert row.group(5) == f"{wilcoxon(bc, unc).pvalue:.1e}"
         assert int(row.group(6)) == int(np.sum(bc < touch))
         assert float(row.group(7)) == float(f"{wilcoxon(bc, touch).pvalue:.2g}")
+
+
+def test_the_vector_speedups_in_the_readme_and_docs_are_the_benchmark() -> None:
+    data = json.loads((REPO / "docs/vector/bench.json").read_text())
+    speed = {b: {k: round(data[b][k]["speedup"], 2) for k in ("native", "native_plain", "async")}
+             for b in ("analytic", "mujoco")}  # fmt: skip
+    readme = " ".join((REPO / "README.md").read_text().split())
+    sentence = re.search(r"On 2 cores ([\d.]+)x one environment's steps/s \(analytic\) and "
+                         r"([\d.]+)x \(MuJoCo hand\), against Gymnasium's async ([\d.]+)x and "
+                         r"([\d.]+)x", readme)  # fmt: skip
+    assert sentence, "the README's sentence on the vector speed changed: update this test"
+    assert [float(x) for x in sentence.groups()] == [
+        speed["analytic"]["native"], speed["mujoco"]["native"],
+        speed["analytic"]["async"], speed["mujoco"]["async"],
+    ]  # fmt: skip
+    docs = " ".join((REPO / "docs/vector.md").read_text().split())
+    bars = re.search(r"are met: ([\d.]+)x and ([\d.]+)x\*\*", docs)
+    assert bars, "docs/vector.md's sentence on the bars changed: update this test"
+    assert [float(x) for x in bars.groups()] == [speed["analytic"]["native"],
+                                                 speed["mujoco"]["native"]]  # fmt: skip
+    assert speed["analytic"]["native"] >= 1.8 and speed["mujoco"]["native"] >= 1.6
+    for b in ("analytic", "mujoco"):
+        row = re.search(r"\| native without either [^|]*\| [\d.]+ \| ([\d.]+)x \| [\d.]+ \| "
+                        r"([\d.]+)x \|", docs)  # fmt: skip
+        assert row and float(row.group(1 if b == "analytic" else 2)) == speed[b]["native_plain"]

@@ -12,12 +12,23 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 from hapticsim.envs.vector import default_workers
 from hapticsim.errors import InvalidInputError
 
 #: Steps before timing a vector environment (its workers load the compiled code first).
 WARMUP_STEPS: int = 20
+
+
+def _warm_objects(env: Any, backend: str, env_kwargs: dict[str, Any]) -> None:
+    """Reset `env` (one environment or a vector of them) once on each object its distribution
+    returns as it is (the paper bodies), so that every environment has built its scenes before
+    the clock starts: the hand compiles a new object's scene once (~50 ms), and a vector of 8
+    environments would otherwise compile 8 times what one environment compiles inside the
+    timed steps."""
+    for solid in HapticExploreConfig(backend=backend, **env_kwargs).objects.fixed_solids():
+        env.reset(options={"shape": solid})
 
 
 def benchmark_env(
@@ -203,6 +214,7 @@ def _single_steps(
     register_envs()
     env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
     env.action_space.seed(seed)
+    _warm_objects(env, backend, env_kwargs)
     env.reset(seed=seed)
     for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
         env.step(env.action_space.sample())
@@ -279,7 +291,7 @@ def shard_estimate(step_seconds: Any, reset_seconds: Any, num_envs: int, shards:
 
 
 #: Vector environments :func:`benchmark_vector_env` can time.
-VECTOR_VARIANTS: tuple[str, ...] = ("native", "async", "threads")
+VECTOR_VARIANTS: tuple[str, ...] = ("native", "native_plain", "async", "threads")
 
 
 def _thread_rate(backend: str, num_envs: int, steps: int, seed: int,
@@ -289,6 +301,7 @@ def _thread_rate(backend: str, num_envs: int, steps: int, seed: int,
     envs = [gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs) for _ in range(num_envs)]
     for k, env in enumerate(envs):
         env.action_space.seed(seed + k)
+        _warm_objects(env, backend, env_kwargs)
         env.reset(seed=seed + k)
 
     def one(env: gym.Env) -> None:
@@ -329,14 +342,16 @@ def _vector_rate(
     kind, own_workers = _parse_variant(variant)
     if kind == "threads":
         return _thread_rate(backend, num_envs, steps, seed, env_kwargs)
-    if kind == "native":
+    if kind in ("native", "native_plain"):
         workers = workers if own_workers is None else own_workers
+        plain = {"draw_ahead": False, "batch_scheduling": False} if kind == "native_plain" else {}
         vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, backend=backend,
-                           workers=workers, **env_kwargs)  # fmt: skip
+                           workers=workers, **plain, **env_kwargs)  # fmt: skip
     else:
         vec = gym.make_vec(HAPTIC_EXPLORE_ID, num_envs=num_envs, vectorization_mode="async",
                            backend=backend, **env_kwargs)  # fmt: skip
     vec.action_space.seed(seed)
+    _warm_objects(vec, backend, env_kwargs)
     vec.reset(seed=seed)
     for _ in range(WARMUP_STEPS):  # each worker loads the compiled code in its first fits
         vec.step(vec.action_space.sample())
@@ -366,9 +381,13 @@ def benchmark_vector_env(
     The variants and one environment in this process run in turn, `repeats` times (single,
     each variant, single, ...), on the same number of environment steps (resets included, as a
     vector environment resets itself), so that their ratios are measured under the same machine
-    load; the medians are reported. Variants: ``"native"``, hapticsim's vector environment
+    load; the medians are reported. Every environment first resets once on each object of its
+    distribution that comes back as it is (:func:`_warm_objects`), then steps `WARMUP_STEPS`.
+    Variants: ``"native"``, hapticsim's vector environment
     (:class:`~hapticsim.envs.vector.HapticVectorEnv`, `workers` processes of N / workers
-    environments each); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
+    environments each, with its defaults: episodes drawn ahead, batch scheduling);
+    ``"native_plain"``, the same without either (``draw_ahead=False,
+    batch_scheduling=False``); ``"async"``, Gymnasium's ``AsyncVectorEnv`` (one process per
     environment); ``"threads"``, the N environments in this process, stepped by a pool of one
     thread per core (no vector environment of ours: how far the GIL lets threads go). Optionally
     also two independent single environments in two processes at once
@@ -478,6 +497,7 @@ def step_components(
     for i in range(num_envs):
         env = gym.make(HAPTIC_EXPLORE_ID, backend=backend, **env_kwargs)
         env.action_space.seed(seed + i)
+        _warm_objects(env, backend, env_kwargs)
         env.reset(seed=seed + i)
         for _ in range(WARMUP_STEPS):  # the first fits load the compiled code
             env.step(env.action_space.sample())
