@@ -120,11 +120,11 @@ def _draw_ahead(conn: Connection, other_end: Connection | None = None) -> None:
     (:meth:`~hapticsim.envs.haptic_explore_v0.EpisodeDrawer.draw`) at idle priority, so that
     the vision estimate a reset needs is made while the worker waits for the other shards.
 
-    Messages: ``("drawers", {j: drawer})`` once, then ``("draw", j, generator)``; answers
-    ``(j, draw)``. Of several requests for one environment only the newest is drawn. A draw
-    that fails is not answered: the reset draws itself and raises there. `other_end` (the
-    worker's end of the pipe, inherited by a forked helper) is closed at once, so that the
-    helper sees the pipe end when the worker does.
+    Messages: ``("drawers", {j: drawer})`` once, then ``("draw", j, generator)``; every request
+    is answered, ``(j, draw)`` or ``(j, None)``: of several requests for one environment only
+    the newest is drawn, and a draw that fails is not sent (the reset draws itself and raises
+    there). `other_end` (the worker's end of the pipe, inherited by a forked helper) is closed at
+    once, so that the helper sees the pipe end when the worker does.
     """
     if other_end is not None:
         other_end.close()
@@ -139,20 +139,25 @@ def _draw_ahead(conn: Connection, other_end: Connection | None = None) -> None:
         except (EOFError, OSError, KeyboardInterrupt):
             break
         requests: dict[int, Any] = {}
+        answers: list[tuple[int, Any]] = []
         for message in pending:
             if message[0] == "drawers":
                 drawers = message[1]
             else:
+                if message[1] in requests:  # superseded
+                    answers.append((message[1], None))
                 requests[message[1]] = message[2]
-        for j, rng in requests.items():
-            try:
-                draw = drawers[j].pack(drawers[j].draw(rng))
-            except Exception:  # noqa: BLE001, S112 - the reset will draw itself and report it
-                continue
-            try:
+        try:
+            for answer in answers:
+                conn.send(answer)
+            for j, rng in requests.items():
+                try:
+                    draw = drawers[j].pack(drawers[j].draw(rng))
+                except Exception:  # noqa: BLE001 - the reset will draw itself and report it
+                    draw = None
                 conn.send((j, draw))
-            except (OSError, EOFError):
-                return
+        except (OSError, EOFError):
+            return
     conn.close()
 
 
@@ -165,6 +170,7 @@ class _Shard:
         self.env_id, self.kwargs, self.size = env_id, kwargs, size
         #: the pipe to the process that draws the environments' next episodes ahead, or None
         self.helper = helper
+        self._asked = 0  # requests the helper has not answered yet
         self._cores: list[HapticExploreEnv | None] = []
         self.first = first  # index of the shard's first environment in the batch
         self.current = first  # the environment being made or stepped (named in errors)
@@ -200,14 +206,18 @@ class _Shard:
         as it is now (nothing else draws from it until the next reset; a reset that is seeded
         or given a shape draws its own)."""
         core = self._cores[j] if self._cores else None
-        if self.helper is not None and core is not None:
+        # A helper starved of CPU (a machine busy with other work) is not asked more than this,
+        # so that its pipe never fills and a send never blocks the worker.
+        if self.helper is not None and core is not None and self._asked < 2 * self.size:
             self._to_helper("draw", j, core.np_random)
+            self._asked += 1
 
     def collect(self) -> None:
         """Hand the draws the helper has finished to their environments (without waiting)."""
         try:
             while self.helper is not None and self.helper.poll():
                 j, draw = self.helper.recv()
+                self._asked -= 1
                 core = self._cores[j]
                 if core is not None and isinstance(draw, EpisodeDraw):
                     core.offer_draw(draw)

@@ -355,3 +355,28 @@ def test_schedule_estimates_by_hand() -> None:
     # a message costs 0.5 s: shard 0 is handed its fit (10.5 s), shard 1 is handed env 1's and
     # sends it back (4 + 8 + 1.5 = 13.5 s); env 1 finishes at 14.5 s
     assert schedule_estimates(parts, 2, 0.5)["fit_sharing_full"] == pytest.approx(12 / 14.5)
+
+
+def test_a_starved_helper_is_not_asked_more_than_it_can_hold() -> None:
+    """A helper that never runs (a machine busy with other work) gets at most two requests per
+    environment: the worker's sends never fill its pipe, so they never block the worker."""
+    import multiprocessing
+
+    from hapticsim.envs.vector import _Shard
+
+    worker_end, helper_end = multiprocessing.Pipe()
+    shard = _Shard(HAPTIC_EXPLORE_ID, KWARGS | {"touch_budget": 1}, 2, AutoresetMode.NEXT_STEP,
+                   helper=worker_end)  # fmt: skip
+    shard.make()
+    shard.reset([0, 1], None, [True, True])
+    for _ in range(30):  # 15 resets per environment
+        shard.step([np.zeros(5, np.float32)] * 2)
+    messages = []
+    while helper_end.poll():
+        messages.append(helper_end.recv())
+    assert [m[0] for m in messages] == ["drawers"] + ["draw"] * 4
+    helper_end.send((0, None))  # one answer frees one request
+    shard.step([np.zeros(5, np.float32)] * 2)
+    shard.step([np.zeros(5, np.float32)] * 2)
+    assert helper_end.poll() and helper_end.recv()[0] == "draw" and not helper_end.poll()
+    shard.close()
