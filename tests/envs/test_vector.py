@@ -167,8 +167,12 @@ def test_without_drawing_ahead_no_reset_is_drawn_ahead() -> None:
 @pytest.mark.skipif(not hasattr(os, "sched_getscheduler"), reason="Linux scheduling policies")
 def test_workers_run_as_batch_and_helpers_as_idle_processes() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
-    envs.reset(seed=0)
-    envs.step(np.zeros((2, 5), np.float32))  # the helpers have set their policy by now
+    envs.reset(seed=0)  # the workers have set their policy: they answered
+    end = time.monotonic() + 30.0  # the helpers set theirs first thing, if not yet
+    while time.monotonic() < end and any(
+        os.sched_getscheduler(shard.helper.pid) != os.SCHED_IDLE for shard in envs._shards
+    ):
+        time.sleep(0.05)
     for shard in envs._shards:
         assert os.sched_getscheduler(shard.process.pid) == os.SCHED_BATCH
         assert os.sched_getscheduler(shard.helper.pid) == os.SCHED_IDLE
