@@ -419,6 +419,11 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
         """(3,) float, the rough position [m, world]: origin of the object-centred frame."""
         return self.base.origin
 
+    @property
+    def resets_drawn_ahead(self) -> int:
+        """Resets that used draws made ahead (v0's counter: :meth:`HapticExploreEnv.offer_draw`)."""
+        return self.base.resets_drawn_ahead
+
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:

@@ -155,6 +155,24 @@ def test_episodes_drawn_ahead_are_the_episodes_drawn_alone(settings: dict) -> No
     assert drawn_ahead == (2, 2, 2)  # budget 4: autoresets at steps 5 and 10, both drawn ahead
 
 
+def test_the_compact_environment_draws_ahead_too() -> None:
+    """v1 (and the touch environments built on it) run v0 inside: its draws are made ahead."""
+    envs = gym.make_vec(HAPTIC_EXPLORE_COMPACT_ID, 2, workers=2, **KWARGS)
+    envs.reset(seed=0)
+    for _ in range(5):  # budget 4: the 5th step resets
+        _wait_for_draws_v1(envs)
+        envs.step(np.zeros((2, 5), np.float32))
+    assert envs.get_attr("resets_drawn_ahead") == (1, 1)
+    envs.close()
+
+
+def _wait_for_draws_v1(envs: gym.vector.VectorEnv, timeout: float = 60.0) -> None:
+    end = time.monotonic() + timeout
+    while any(base._ahead is None for base in envs.get_attr("base")):
+        assert time.monotonic() < end, "the helpers drew nothing in time"
+        time.sleep(0.05)
+
+
 def test_without_drawing_ahead_no_reset_is_drawn_ahead() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, draw_ahead=False,
                         batch_scheduling=False, **KWARGS)  # fmt: skip
