@@ -182,7 +182,20 @@ def test_without_drawing_ahead_no_reset_is_drawn_ahead() -> None:
     envs.close()
 
 
-@pytest.mark.skipif(not hasattr(os, "sched_getscheduler"), reason="Linux scheduling policies")
+def _policies_can_be_set() -> bool:
+    """Whether this machine lets a process take SCHED_BATCH and SCHED_IDLE (Linux, and not
+    forbidden by a sandbox)."""
+    import subprocess
+    import sys
+
+    if not hasattr(os, "SCHED_IDLE"):
+        return False
+    code = ("import os; os.sched_setscheduler(0, os.SCHED_BATCH, os.sched_param(0)); "
+            "os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))")  # fmt: skip
+    return subprocess.run([sys.executable, "-c", code], check=False).returncode == 0
+
+
+@pytest.mark.skipif(not _policies_can_be_set(), reason="no SCHED_BATCH / SCHED_IDLE here")
 def test_workers_run_as_batch_and_helpers_as_idle_processes() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_ID, 2, workers=2, **KWARGS)
     envs.reset(seed=0)  # the workers have set their policy: they answered
