@@ -141,7 +141,8 @@ def test_the_vector_speedups_in_the_readme_and_docs_are_the_benchmark() -> None:
     assert [float(x) for x in bars.groups()] == [speed["analytic"]["native"],
                                                  speed["mujoco"]["native"]]  # fmt: skip
     assert speed["analytic"]["native"] >= 1.8 and speed["mujoco"]["native"] >= 1.6
-    for b in ("analytic", "mujoco"):
-        row = re.search(r"\| native without either [^|]*\| [\d.]+ \| ([\d.]+)x \| [\d.]+ \| "
-                        r"([\d.]+)x \|", docs)  # fmt: skip
-        assert row and float(row.group(1 if b == "analytic" else 2)) == speed[b]["native_plain"]
+    row = re.search(r"\| native without either [^|]*\| [\d.]+ \| ([\d.]+)x \| [\d.]+ \| "
+                    r"([\d.]+)x \|", docs)  # fmt: skip
+    assert row, "docs/vector.md's plain-shards row changed: update this test"
+    assert [float(x) for x in row.groups()] == [speed["analytic"]["native_plain"],
+                                                speed["mujoco"]["native_plain"]]  # fmt: skip

@@ -37,6 +37,8 @@ Array = NDArray[np.float64]
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
+
+
 @dataclass(frozen=True)
 class EpisodeDraw:
     """What a reset drew from the environment's generator (:meth:`EpisodeDrawer.draw`).
@@ -542,8 +544,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         # The draws are made here, or ahead by another process from the state the generator
         # is in now (then they are the same numbers, bit for bit).
         ahead, self._ahead = self._ahead, None
-        state = self.np_random.bit_generator.state
-        if ahead is not None and shape is None and ahead.state == state:
+        if (ahead is not None and shape is None
+                and ahead.state == self.np_random.bit_generator.state):  # fmt: skip
             drawn = ahead
             self.np_random.bit_generator.state = ahead.after
             self.resets_drawn_ahead += 1

@@ -205,7 +205,7 @@ class _Shard:
         """Ask the helper for environment j's next episode, drawn from a copy of its generator
         as it is now (nothing else draws from it until the next reset; a reset that is seeded
         or given a shape draws its own)."""
-        core = self._cores[j] if self._cores else None
+        core = self._cores[j]
         # A helper starved of CPU (a machine busy with other work) is not asked more than this,
         # so that its pipe never fills and a send never blocks the worker.
         if self.helper is not None and core is not None and self._asked < 2 * self.size:

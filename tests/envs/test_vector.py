@@ -109,11 +109,14 @@ def test_native_matches_sync_bit_for_bit(workers: int) -> None:
     _assert_same(sync, native)
 
 
-def _wait_for_draws(envs: gym.vector.VectorEnv, timeout: float = 60.0) -> None:
+def _wait_for_draws(envs: gym.vector.VectorEnv, v1: bool = False, timeout: float = 60.0) -> None:
     """Wait until every environment holds its next episode's draws (the helpers run at idle
-    priority: on a busy machine they may take a while)."""
+    priority: on a busy machine they may take a while); `v1`: the environments run v0 inside."""
     end = time.monotonic() + timeout
-    while any(d is None for d in envs.get_attr("_ahead")):
+    while True:
+        pending = [c._ahead for c in envs.get_attr("base")] if v1 else envs.get_attr("_ahead")
+        if all(d is not None for d in pending):
+            return
         assert time.monotonic() < end, "the helpers drew nothing in time"
         time.sleep(0.02)
 
@@ -160,17 +163,10 @@ def test_the_compact_environment_draws_ahead_too() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_COMPACT_ID, 2, workers=2, **KWARGS)
     envs.reset(seed=0)
     for _ in range(5):  # budget 4: the 5th step resets
-        _wait_for_draws_v1(envs)
+        _wait_for_draws(envs, v1=True)
         envs.step(np.zeros((2, 5), np.float32))
     assert envs.get_attr("resets_drawn_ahead") == (1, 1)
     envs.close()
-
-
-def _wait_for_draws_v1(envs: gym.vector.VectorEnv, timeout: float = 60.0) -> None:
-    end = time.monotonic() + timeout
-    while any(base._ahead is None for base in envs.get_attr("base")):
-        assert time.monotonic() < end, "the helpers drew nothing in time"
-        time.sleep(0.05)
 
 
 def test_without_drawing_ahead_no_reset_is_drawn_ahead() -> None:
