@@ -130,11 +130,11 @@ def section_explore(seeds: int) -> dict[str, object]:
 
 def section_env(seeds: int) -> dict[str, object]:
     """tests/envs/test_haptic_explore.py: independent scoring and a sensible policy."""
-    from tests.envs.test_haptic_explore import independent_epsilon_run, policy_epsilon_curve
+    from tests.envs.test_haptic_explore import env_epsilon_curve, independent_epsilon_run
 
     return {
         "info_vs_independent_epsilon": independent_epsilon_run(),
-        "policy_epsilon": {str(s): policy_epsilon_curve(s) for s in range(min(seeds, 5))},
+        "policy_epsilon": {str(s): env_epsilon_curve(s) for s in range(max(seeds, 12))},
     }
 
 

@@ -74,17 +74,29 @@ def git_state() -> dict[str, Any] | None:
 def machine() -> dict[str, Any]:
     """System, CPU model, core count, Python and code-generation targets of this machine."""
     cpu = platform.processor() or None
+    fields: dict[str, str] = {}
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
+            key, _, value = line.partition(":")
+            key = key.strip()
+            if key in ("model name", "vendor_id", "cpu family", "model") and key not in fields:
+                fields[key] = value.strip()
+            if not line.strip():  # the first processor is enough
                 break
     except OSError:
         pass
+    cpu = fields.get("model name", cpu)
+    # "AMD EPYC" names several generations: vendor, family and model tell them apart
+    cpu_id = (
+        f"{fields['vendor_id']} family {fields['cpu family']} model {fields['model']}"
+        if {"vendor_id", "cpu family", "model"} <= fields.keys()
+        else None
+    )
     return {
         "system": f"{platform.system()} {platform.release()}",
         "architecture": platform.machine(),
         "cpu": cpu,
+        "cpu_id": cpu_id,
         "cores": os.cpu_count(),
         "python": platform.python_version(),
         "codegen": codegen_target(),
@@ -160,4 +172,23 @@ def provenance(
         "seeds": {"root": seed, "scheme": SEED_SCHEME},
         "command": command,
         "started": started.isoformat(timespec="seconds"),
+    }
+
+
+def manifest(command: list[str] | None = None) -> dict[str, Any]:
+    """A SPEC §14 manifest of this process: the command, the commit, the date (UTC), the
+    machine (CPU model, cores, code-generation targets) and the versions of the packages that
+    shape the numbers (with torch where it is installed)."""
+    packages = package_versions()
+    try:
+        packages["torch"] = metadata.version("torch")
+    except metadata.PackageNotFoundError:
+        pass
+    return {
+        "command": command,
+        "hapticsim": __version__,
+        "git": git_state(),
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "machine": machine(),
+        "packages": packages,
     }

@@ -219,16 +219,44 @@ def test_reward_and_epsilon_agree_with_an_independent_score() -> None:
     assert rows["eof_ratio"] and np.allclose(rows["eof_ratio"], 1.0, rtol=1e-9)
 
 
-@pytest.mark.parametrize("seed", [1, 3])
-def test_a_sensible_policy_lowers_epsilon_over_an_episode(seed: int) -> None:
-    curve = policy_epsilon_curve(seed)
-    fitted = [e for e in curve if e < 1.0]
-    # Measured (scripts/measure_bounds.py --section env; uncertainty policy, analytic backend,
-    # seeds 0-4): first fit 0.23-0.38, after 12 touches 0.013-0.025 (random touches, seeds
-    # 0-3: 0.034-0.062). A fitter or simulation that loses a millimetre scores ~0.1: the
-    # limit 0.06 fails it.
-    assert len(fitted) >= 8
-    assert curve[-1] < 0.06 and curve[-1] < 0.5 * fitted[0]
+def test_a_sensible_policy_lowers_epsilon_over_an_episode() -> None:
+    # Over twelve episodes, not one: a CPU that rounds numpy's and BLAS's routines differently
+    # sends an episode down another path, and one episode of twelve may end high (seed 3 ends
+    # at 0.104 on an AMD Zen 4 core and with an AVX2 machine's targets, at 0.016 with only the
+    # BLAS kernel and numba's target set to Haswell). Measured (uncertainty policy, analytic
+    # backend, paper bodies, seeds 0-11, 12 touches) natively on Zen 4 / with NUMBA_CPU_NAME=
+    # haswell OPENBLAS_CORETYPE=Haswell / with NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL" too:
+    # median epsilon after 12 touches 0.019 / 0.020 / 0.019, worst 0.104 / 0.029 / 0.104; at
+    # least 11 of 12 episodes end below half their first fit. A fitter or simulation that loses
+    # a millimetre scores ~0.1 in most episodes: the median's limit 0.05 fails it, and the count
+    # allows two episodes of twelve to take a bad path on any CPU.
+    finals, halved = [], 0
+    for seed in range(12):
+        curve = env_epsilon_curve(seed)
+        fitted = [e for e in curve if e < 1.0]
+        assert len(fitted) >= 8, (seed, curve)
+        finals.append(curve[-1])
+        halved += curve[-1] < 0.5 * fitted[0]
+    assert np.median(finals) < 0.05, finals
+    assert halved >= 10, finals
+
+
+def env_epsilon_curve(seed: int, touches: int = 12) -> list[float]:
+    """The environment's epsilon after each touch of an uncertainty-policy episode on the paper
+    bodies (checked against an independent score by the test above)."""
+    from hapticsim.envs.policies import UncertaintyPolicy
+
+    env = make(objects="paper", touch_budget=touches)
+    policy = UncertaintyPolicy(env, rng=0)
+    obs, info = env.reset(seed=seed)
+    policy.reset(0)
+    curve, done = [], False
+    while not done:
+        obs, _, terminated, truncated, info = env.step(policy(obs))
+        done = terminated or truncated
+        curve.append(float(info["epsilon"]))
+    env.close()
+    return curve
 
 
 def test_fit_encoding_round_trip() -> None:

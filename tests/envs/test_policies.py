@@ -111,25 +111,33 @@ def test_comparison_runs_writes_and_reads_back(tmp_path) -> None:  # noqa: ANN00
 
 
 def test_information_policy_scores_by_the_posterior_once_fitted() -> None:
+    from scipy.stats import spearmanr
+
     from hapticsim.envs.policies import InformationPolicy, observed_contacts
 
     env = make(objects="paper")
-    policy = InformationPolicy(env, rng=0)
-    obs, _ = env.reset(seed=1)
-    policy.reset(0)
-    while not (int(obs["fit_valid"][0]) and int(obs["mask"].sum()) >= 13):
-        obs, *_ = env.step(policy(obs))
-    contacts = observed_contacts(obs, env.config.obs_scale)
-    estimate = policy._estimate(obs)
-    candidates = policy._candidates(estimate).points
-    policy.prepare(obs)
-    surface = policy._score(candidates, contacts, estimate, obs)
-    by_entropy = InformationPolicy(env, criterion="entropy")
-    by_entropy.prepare(obs)
-    entropy = by_entropy._score(candidates, contacts, estimate, obs)
-    coverage = UncertaintyPolicy(env)._score(candidates, contacts, estimate, obs)
-    assert np.all(surface >= 0) and np.all(entropy >= 0)
-    # not the coverage gap in disguise: the three rank the candidates differently
-    assert np.argmax(surface) != np.argmax(coverage) or np.argmax(entropy) != np.argmax(coverage)
+    correlations = []
+    for seed in range(3):
+        policy = InformationPolicy(env, rng=0)
+        obs, _ = env.reset(seed=seed)
+        policy.reset(0)
+        while not (int(obs["fit_valid"][0]) and int(obs["mask"].sum()) >= 13):
+            obs, *_ = env.step(policy(obs))
+        contacts = observed_contacts(obs, env.config.obs_scale)
+        estimate = policy._estimate(obs)
+        candidates = policy._candidates(estimate).points
+        policy.prepare(obs)
+        surface = policy._score(candidates, contacts, estimate, obs)
+        by_entropy = InformationPolicy(env, criterion="entropy")
+        by_entropy.prepare(obs)
+        entropy = by_entropy._score(candidates, contacts, estimate, obs)
+        coverage = UncertaintyPolicy(env)._score(candidates, contacts, estimate, obs)
+        assert np.all(surface >= 0) and np.all(entropy >= 0)
+        correlations += [spearmanr(surface, coverage)[0], spearmanr(entropy, coverage)[0]]
+    # Not the coverage gap in disguise: the posterior's scores rank the candidates otherwise.
+    # A property of the scores, not of one state's best candidate (which two scores may share
+    # on one CPU and not on another). Measured (seeds 0-5, Zen 4): Spearman correlations with the
+    # coverage gap 0.11-0.86; a rescaled coverage gap would give 1.
+    assert np.median(correlations) < 0.95 and max(correlations) < 0.99, correlations
     with pytest.raises(InvalidInputError, match="criterion"):
         InformationPolicy(env, criterion="volume")
