@@ -188,6 +188,11 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     return atomic_write(path, lambda fh: fh.write(text), "w")
 
 
+def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
+    """Write bytes through a temporary sibling file and a rename."""
+    return atomic_write(path, lambda fh: fh.write(data), "wb")
+
+
 def write_json(path: str | Path, data: Any) -> Path:
     """Write `data` as indented JSON (atomic)."""
     return write_text_atomic(path, json.dumps(data, indent=2) + "\n")

@@ -201,7 +201,7 @@ def _cmd_explore(args: argparse.Namespace) -> int:
 
 
 def _explore_from_args(args: argparse.Namespace) -> dict:
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
 
     return explore(
         object_name=args.object,

@@ -25,6 +25,10 @@ MAX_INT: int = 2**62
 #: Most contacts a data set, an exploration or a sweep setting may ask for (arrays are sized by
 #: it: 10^6 contacts are 24 MB per (n, 3) array).
 MAX_CONTACTS: int = 1_000_000
+#: Contacts an exploration must gather to count as a success (a fit needs 13).
+MIN_CONTACTS: int = 20
+#: Contacts an exploration gathers by default (paper IV).
+DEFAULT_CONTACTS: int = 150
 #: Largest budget of EOF evaluations (10^9 evaluations of 150 contacts take about a day).
 MAX_BUDGET: int = 1_000_000_000
 #: Most runs (data sets) per setting of a sweep (``reproduce --runs``).

@@ -282,7 +282,7 @@ def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
     """Exact against tactile sensing, same run: environment steps per second per backend and
     explore's time per body (medians over the four bodies)."""
     from hapticsim.benchmarks.env import benchmark_env
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
 
     out: dict[str, Any] = {}
     for backend in args.backends:

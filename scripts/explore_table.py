@@ -18,7 +18,7 @@ import sys
 import tempfile
 
 from hapticsim.data.bodies import BODY_NAMES
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 
 
 def row(hand: str, body: str, seed: int, noise: float) -> dict[str, float]:

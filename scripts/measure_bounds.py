@@ -110,7 +110,7 @@ def section_explore(seeds: int) -> dict[str, object]:
     """tests/sim/test_explore.py (default-run cases)."""
     import tempfile
 
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
     from tests.sim.test_explore import DEFAULT_RUNS
 
     out: dict[str, object] = {}

@@ -118,8 +118,7 @@ def _run(task: tuple) -> list[dict[str, Any]]:
     family, name, strategy, count, seed, pose, noise = task
     from hapticsim.data.noise import add_noise
     from hapticsim.data.synthetic import synthetic_dataset
-    from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
-    from hapticsim.sim.session import run_exploration
+    from hapticsim.exploration import explorer_for, is_policy
 
     truth = _truth(name, pose)
     fit_seed = int(np.random.SeedSequence(seed).spawn(3)[2].generate_state(1)[0])
@@ -132,14 +131,11 @@ def _run(task: tuple) -> list[dict[str, Any]]:
         runs = [(count, c.points, c.normals, None)]
     else:
         sim_rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(3)[0])
-        if is_policy_strategy(strategy):
-            run = run_policy_exploration(truth, strategy, count, sim_rng)
-        else:
-            run = run_exploration(truth, strategy, count, rng=sim_rng)
+        run = explorer_for(strategy).explore(truth, count, sim_rng, None)
         a = run.arrays
         dist, _ = truth.contact_errors(a["points_clean"], a["normals_clean"])
         accuracy = float(np.median(dist))
-        counts = (150, count) if is_policy_strategy(strategy) and count > 150 else (count,)
+        counts = (150, count) if is_policy(strategy) and count > 150 else (count,)
         runs = [(k, a["points_clean"][:k], a["normals_clean"][:k], accuracy) for k in counts]
     rows = []
     for k, pts, nrm, accuracy in runs:

@@ -32,7 +32,7 @@ import numpy as np
 
 def _case(body: str, seed: int, noise: float, count: int, radius: float) -> dict[str, Any]:
     from hapticsim.data.io import FREE_SPACE_KEY, read_contacts
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
     from hapticsim.fitting import fit
     from hapticsim.fitting.ml import with_options
     from hapticsim.geometry import Superquadric

@@ -1,6 +1,6 @@
 """The tables of issue 11: exploring objects from anywhere, planned on the honest vision estimate.
 
-Every run is ``hapticsim.experiments.explore.explore`` (what ``hapticsim explore`` runs): the
+Every run is ``hapticsim.exploration.explore`` (what ``hapticsim explore`` runs): the
 ``paper`` strategy, sigma_N = 0, an nH fit, on
 
 1. the paper's four bodies, seeds 0-2;
@@ -39,7 +39,7 @@ START, END = "<!-- objects-table:start -->", "<!-- objects-table:end -->"
 
 
 def _run(source: str, seed: int, out: Path, label: str, group: str) -> dict[str, Any]:
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
 
     start = time.perf_counter()
     summary = explore(source, strategy="paper", noise=0.0, method="nH", seed=seed,

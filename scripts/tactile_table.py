@@ -1,6 +1,6 @@
 """The tables of issue 19 (docs/tactile/README.md): contacts estimated from taxels, and the fits.
 
-Every run is :func:`hapticsim.sim.session.run_exploration` (the simulation of ``hapticsim
+Every run is :class:`hapticsim.exploration.StrategyExplorer`'s (the simulation of ``hapticsim
 explore``): the ``paper`` strategy, 150 contacts, sigma_N = 0, with exact sensing and with
 tactile sensing through each skin preset (``ideal``, ``vision``, ``capacitive``), on these
 families (the estimator was developed on the first; the others are held out):
@@ -92,15 +92,15 @@ def _contact_errors(
 
 def _task(task: tuple[str, str, str, str, int, str, str]) -> dict[str, Any]:
     """One exploration and its fits."""
+    from hapticsim.exploration import StrategyExplorer
     from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.scene import SceneConfig
-    from hapticsim.sim.session import run_exploration
 
     family, kind, name, hand, seed, sensing, skin = task
     truth = _truth(kind, name)
     config = SceneConfig(hand=hand, sensing=sensing, skin=skin)
     start = time.perf_counter()
-    run = run_exploration(truth, "paper", 150, seed, scene_config=config)
+    run = StrategyExplorer("paper").explore(truth, 150, np.random.default_rng(seed), config)
     wall = time.perf_counter() - start
     a = run.arrays
     acc = contact_accuracy(truth, a["points_clean"], a["normals_clean"])

@@ -34,7 +34,7 @@ def main() -> int:
 
     from playwright.sync_api import sync_playwright
 
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
     from hapticsim.viewer import export_html, load_run, replay_states
 
     with tempfile.TemporaryDirectory() as tmp:

@@ -28,12 +28,18 @@ ALLOWED: dict[str, set[str]] = {
     "tactile": {"geometry"},
     "sim": {"geometry", "data", "tactile"},
     "envs": {"geometry", "data", "metrics", "fitting", "tactile", "sim"},
+    # one trial: explore (a strategy, or a policy in the environment) -> estimate -> score
+    "exploration": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
     "experiments": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
-    "suites": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "experiments"},
+    "suites": {
+        "geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "exploration",
+        "experiments",
+    },
     # reads run directories (plain files): no simulator, no environments
     "viewer": {"geometry", "data", "metrics", "fitting"},
     # benchmarks and report writers: on top, imported by nothing in the library
-    "benchmarks": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
+    "benchmarks": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs",
+                   "exploration"},
 }
 
 

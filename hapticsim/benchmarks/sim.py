@@ -18,13 +18,13 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.exploration import explorer_for
 from hapticsim.geometry import Superquadric
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.rough import vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
-from hapticsim.sim.session import run_exploration
 
 Array = NDArray[np.float64]
 
@@ -77,8 +77,8 @@ def exploration_time(
         ``closed_loop_steps_per_second`` (physics steps per wall second with the controllers).
     """
     cpu = time.process_time()
-    run = run_exploration(truth, strategy, count=count, rng=seed,
-                          scene_config=SceneConfig(hand=hand))  # fmt: skip
+    explorer = explorer_for(strategy)  # a scripted strategy or a policy
+    run = explorer.explore(truth, count, np.random.default_rng(seed), SceneConfig(hand=hand))
     return {
         "contacts": float(run.count),
         "wall_seconds": run.wall_time,

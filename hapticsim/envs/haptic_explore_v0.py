@@ -616,6 +616,12 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._backend.close()
         super().close()
 
+    @property
+    def backend(self) -> Any:
+        """The touch backend (:mod:`hapticsim.envs.backends`): the MuJoCo hand's simulation or
+        the analytic ray caster."""
+        return self._backend
+
     # ------------------------------------------------------------------ internals
     def _score(self, estimate: Solid | None) -> dict[str, float]:
         if estimate is None:

@@ -108,6 +108,11 @@ class MujocoBackend(TouchBackend):
         self._render_model = None
 
     @property
+    def explorer(self) -> Any:
+        """The simulation's explorer of the current episode (None before the first reset)."""
+        return self._explorer
+
+    @property
     def pad_shape(self) -> tuple[int, int, int]:
         """(pads, rows, cols) of the hand's readings with tactile sensing: a pad per finger,
         the hand's grid laid out at the skin's own pitch where it has one."""

@@ -67,8 +67,11 @@ def chamfer(
     """
     estimate = solid_arg(estimate, "estimate")
     truth = solid_arg(truth, "truth")
-    n = positive_int(samples, "samples")
-    gen = as_generator(rng)
+    return chamfer_checked(estimate, truth, positive_int(samples, "samples"), as_generator(rng))
+
+
+def chamfer_checked(estimate: Solid, truth: Solid, n: int, gen: np.random.Generator) -> float:
+    """:func:`chamfer` of arguments already checked (two solids, ``n`` >= 1, a generator)."""
     to_truth = truth.surface_distance(estimate.sample_surface(n, gen)[0])
     to_estimate = estimate.surface_distance(truth.sample_surface(n, gen)[0])
     return float(0.5 * (np.mean(to_truth) + np.mean(to_estimate)))
@@ -78,6 +81,7 @@ __all__ = [
     "DEFAULT_CHAMFER_SAMPLES",
     "DEFAULT_MESH_RESOLUTION",
     "chamfer",
+    "chamfer_checked",
     "closest_point_on_triangles",
     "sample_surface",
     "surface_distance",

@@ -10,12 +10,12 @@ import numpy as np
 from hapticsim._validate import as_generator, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid, solid_arg
-from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer
+from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer_checked
 from hapticsim.metrics.volume import (
     BOOLEAN_RESOLUTION,
     DEFAULT_VOLUME_SAMPLES,
-    boolean_overlap,
-    volume_overlap,
+    mesh_boolean_overlap,
+    monte_carlo_overlap,
 )
 
 #: Volume methods of :func:`score`.
@@ -143,15 +143,15 @@ def score(
     seed = seed_text(rng)
     gen = as_generator(rng)
     if volume_method == "monte_carlo":
-        volumes = volume_overlap(estimate, truth, samples=n_vol, rng=gen)
+        volumes = monte_carlo_overlap(estimate, truth, n_vol, gen)
         method = _monte_carlo_text(estimate, truth, n_vol, seed)
     else:
-        volumes = boolean_overlap(estimate, truth)
+        volumes = mesh_boolean_overlap(estimate, truth, BOOLEAN_RESOLUTION)
         method = (
             f"exact mesh booleans (manifold3d) of the two solids' surface meshes (superquadrics "
             f"meshed at {BOOLEAN_RESOLUTION} longitudes)"
         )
-    distance = chamfer(estimate, truth, samples=n_cd, rng=gen)
+    distance = chamfer_checked(estimate, truth, n_cd, gen)
     return Score(
         alpha=volumes.alpha,
         beta=volumes.beta,

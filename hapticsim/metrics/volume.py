@@ -124,8 +124,15 @@ def volume_overlap(
     """
     estimate = solid_arg(estimate, "estimate")
     truth = solid_arg(truth, "truth")
-    n = positive_int(samples, "samples")
-    gen = as_generator(rng)
+    return monte_carlo_overlap(estimate, truth, positive_int(samples, "samples"),
+                               as_generator(rng))  # fmt: skip
+
+
+def monte_carlo_overlap(
+    estimate: Solid, truth: Solid, n: int, gen: np.random.Generator
+) -> VolumeOverlap:
+    """:func:`volume_overlap` of arguments already checked (two solids, ``n`` >= 1, a
+    generator): what callers that validated them once use."""
     alpha = float(np.count_nonzero(truth.outside(estimate.sample_interior(n, gen)))) / n
     beta = float(np.count_nonzero(estimate.outside(truth.sample_interior(n, gen)))) / n
     v_e, v_s = estimate.volume, truth.volume
@@ -154,11 +161,13 @@ def boolean_overlap(
     Raises:
         InvalidInputError: manifold3d could not intersect the meshes.
     """
-    import manifold3d
+    return mesh_boolean_overlap(solid_arg(estimate, "estimate"), solid_arg(truth, "truth"),
+                                positive_int(resolution, "resolution", minimum=8))  # fmt: skip
 
-    estimate = solid_arg(estimate, "estimate")
-    truth = solid_arg(truth, "truth")
-    res = positive_int(resolution, "resolution", minimum=8)
+
+def mesh_boolean_overlap(estimate: Solid, truth: Solid, res: int) -> VolumeOverlap:
+    """:func:`boolean_overlap` of arguments already checked (two solids, ``res`` >= 8)."""
+    import manifold3d
 
     def manifold(solid: Solid) -> Any:
         vertices, faces = solid.surface_mesh(res)
@@ -236,6 +245,8 @@ __all__ = [
     "epsilon",
     "intersection_and_iou",
     "iou",
+    "mesh_boolean_overlap",
+    "monte_carlo_overlap",
     "sample_interior",
     "volume_overlap",
 ]

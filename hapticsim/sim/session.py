@@ -1,8 +1,8 @@
 """One headless exploration run: scene, rough object, strategy, recorded contacts.
 
-:func:`run_exploration` is the simulation half of ``hapticsim explore``
-(:func:`hapticsim.experiments.explore.explore` adds sensor noise, the fit, the score and the
-files).
+:func:`run_exploration` runs a scripted strategy: the simulation half of a trial whose explorer
+is a strategy (:class:`hapticsim.exploration.StrategyExplorer`;
+:func:`hapticsim.exploration.run_trial` adds sensor noise, the fit and the score).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim._validate import as_generator, positive_int
-from hapticsim.constants import MAX_CONTACTS
+from hapticsim.constants import DEFAULT_CONTACTS, MAX_CONTACTS, MIN_CONTACTS
 from hapticsim.errors import SimulationError
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
@@ -27,10 +27,8 @@ from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.strategies import get_strategy
 from hapticsim.sim.video import ExplorationVideo
 
-#: Contacts an exploration must gather to count as a success (a fit needs 13).
-MIN_CONTACTS: int = 20
 #: Default number of contacts (paper IV).
-DEFAULT_COUNT: int = 150
+DEFAULT_COUNT: int = DEFAULT_CONTACTS
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,6 +69,32 @@ class Exploration:
     free_space: np.ndarray | None = None
     tactile: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     unfelt: int = 0
+
+    @classmethod
+    def of(
+        cls, truth: Solid, explorer: Explorer, requested: int, wall_time: float,
+        stop_reason: str | None, free_space: np.ndarray | None, count: int | None = None,
+    ) -> Exploration:  # fmt: skip
+        """What `explorer` recorded on `truth` (its recorder, log and simulator), the first
+        `count` contacts (default: all)."""
+        recorder = explorer.recorder
+        keep = slice(0, count)
+        return cls(
+            truth=truth,
+            rough=explorer.rough,
+            arrays={k: v[keep] for k, v in recorder.arrays().items()},
+            pattern_kinds=tuple(recorder.pattern_kinds),
+            log=tuple(explorer.log),
+            sim_time=explorer.sim.time,
+            steps=explorer.sim.steps,
+            wall_time=wall_time,
+            explorer=explorer,
+            requested=requested,
+            stop_reason=stop_reason,
+            free_space=free_space,
+            tactile={k: v[keep] for k, v in recorder.tactile_arrays().items()},
+            unfelt=recorder.unfelt,
+        )
 
     @property
     def count(self) -> int:
@@ -154,22 +178,7 @@ def run_exploration(
             f"the {strategy!r} exploration gathered only {len(recorder)} contacts (at least "
             f"{MIN_CONTACTS} needed): the hand could not reach the object's surface"
         )
-    return Exploration(
-        truth=truth,
-        rough=rough,
-        arrays=recorder.arrays(),
-        pattern_kinds=tuple(recorder.pattern_kinds),
-        log=tuple(explorer.log),
-        sim_time=explorer.sim.time,
-        steps=explorer.sim.steps,
-        wall_time=wall,
-        explorer=explorer,
-        requested=count,
-        stop_reason=explorer.stop_reason,
-        free_space=trace.points(),
-        tactile=recorder.tactile_arrays(),
-        unfelt=recorder.unfelt,
-    )
+    return Exploration.of(truth, explorer, count, wall, explorer.stop_reason, trace.points())
 
 
 __all__ = ["DEFAULT_COUNT", "Exploration", "MIN_CONTACTS", "run_exploration"]

@@ -19,10 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim.constants import DEFAULT_LAMBDA
-from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Superquadric, random_rotation
+from hapticsim.geometry import random_rotation
 from hapticsim.parallel import key_of, seed_sequence
 from hapticsim.suites.plugins import as_solid, load_fitter, load_policy
 from hapticsim.suites.suite import Case
@@ -125,17 +123,8 @@ def _fit(
             "fit_status": result.status,
         }  # fmt: skip
 
-    func = load_fitter(fitter)
-    try:
-        value = func(points.copy(), normals.copy())
-    except Exception as exc:  # noqa: BLE001 - the plug-in's failure is the case's result
-        detail = " ".join(str(exc).split())
-        raise _PluginError(f"the fitter {fitter} raised {type(exc).__name__}: {detail}") from None
+    estimate = _plugin_fitter(fitter)(points.copy(), normals.copy())
     timing["fit"] = time.perf_counter() - start
-    try:
-        estimate = as_solid(value)
-    except InvalidInputError as exc:
-        raise _PluginError(str(exc)) from None
     return estimate, {"fitter": fitter, "budget": None, "evaluations": None, "fit_status": None}
 
 
@@ -143,28 +132,11 @@ def _quality(
     estimate: Any, truth: Any, points: Any, normals: Any | None, rng: np.random.Generator
 ) -> dict[str, Any]:
     """epsilon, alpha, beta, IoU, Chamfer, and for superquadrics theta and the EOF of `estimate`
-    (SPEC §2, §4; None where a solid has no EOF: a union, a mesh truth's theta); ``parts``."""
-    from hapticsim.geometry.eof import error_of_fit
-    from hapticsim.metrics import score, theta
+    (SPEC §2, §4; None where a solid has no EOF: a union, a mesh truth's theta); ``parts``
+    (the pipeline's scorer, :func:`hapticsim.exploration.score_estimate`)."""
+    from hapticsim.exploration.pipeline import quality_metrics, score_estimate
 
-    quality = score(estimate, truth, rng=rng)
-    e = estimate
-    single = isinstance(e, Superquadric)
-    eof = (
-        float(error_of_fit(points, normals, e.a, e.eps, e.taper, e.rotation, e.center,
-                           DEFAULT_LAMBDA)) if single else None
-    )  # fmt: skip
-    th = (
-        float(theta(estimate, truth, points, normals, lam=DEFAULT_LAMBDA))
-        if single and isinstance(truth, Superquadric) else None
-    )  # fmt: skip
-    out = {
-        "epsilon": quality.epsilon, "alpha": quality.alpha, "beta": quality.beta,
-        "iou": quality.iou, "chamfer": quality.chamfer, "theta": th, "eof": eof,
-    }  # fmt: skip
-    if not single:
-        out["parts"] = len(e.components)
-    return out
+    return quality_metrics(estimate, *score_estimate(estimate, truth, points, normals, None, rng))
 
 
 def _truth(body: str, rng: np.random.Generator) -> Any:
@@ -199,31 +171,12 @@ def _run_fit(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], 
 
 def _run_explore(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
     from hapticsim.data.bodies import get_body
-    from hapticsim.data.noise import add_noise
-    from hapticsim.fitting.methods import uses_normals
-    from hapticsim.metrics.accuracy import contact_accuracy
-    from hapticsim.sim.session import run_exploration
+    from hapticsim.exploration import TrialSeeds
 
-    p = case.params
-    data_ss, case_ss = _seeds(case)
-    sim_rng, noise_rng = (np.random.default_rng(s) for s in data_ss.spawn(2))
-    fit_rng, score_rng = (np.random.default_rng(s) for s in case_ss.spawn(2))
-    truth = get_body(p["body"])
-    run = run_exploration(truth, p["strategy"], p["count"], rng=sim_rng)
-    a = run.arrays
-    points, normals = add_noise(
-        a["points_clean"], a["normals_clean"], p["noise"], float(np.mean(truth.a)), noise_rng
-    )
-    estimate, info = _fit(points, normals, p["method"], "default", fit_rng, task.fitter, timing)
-    metrics = _quality(
-        estimate, truth, points, normals if uses_normals(p["method"]) else None, score_rng
-    )
-    accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
-    return {
-        **metrics, **info, "contacts": run.count, "complete": run.count >= p["count"],
-        "distance_median": accuracy["distance_median"],
-        "angle_median_deg": accuracy["angle_median_deg"], "truth": truth.to_dict(),
-    }, estimate  # fmt: skip
+    seeds = TrialSeeds.from_case(*_seeds(case), shape_first=False)
+    truth = get_body(case.params["body"])
+    metrics, estimate = _run_trial(task, seeds, truth, timing)
+    return {**metrics, "truth": truth.to_dict()}, estimate
 
 
 #: Quality measures of an episode that ended without any fit (the environment's convention).
@@ -300,31 +253,60 @@ def _object_truth(name: str, rng: np.random.Generator) -> Any:
 
 
 def _run_objects(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
-    from hapticsim.data.noise import add_noise
-    from hapticsim.metrics.accuracy import contact_accuracy
-    from hapticsim.sim.session import run_exploration
+    from hapticsim.exploration import TrialSeeds
 
-    p = case.params
-    data_ss, case_ss = _seeds(case)
-    shape_rng, sim_rng, noise_rng = (np.random.default_rng(s) for s in data_ss.spawn(3))
-    fit_rng, score_rng = (np.random.default_rng(s) for s in case_ss.spawn(2))
-    truth = _object_truth(p["object"], shape_rng)
-    if is_policy_strategy(p["strategy"]):
-        run = run_policy_exploration(truth, p["strategy"], p["count"], sim_rng)
-    else:
-        run = run_exploration(truth, p["strategy"], p["count"], rng=sim_rng)
-    a = run.arrays
-    points, normals = add_noise(a["points_clean"], a["normals_clean"], p["noise"], truth.size,
-                                noise_rng)  # fmt: skip
-    estimate, info = _fit(points, normals, p["method"], "default", fit_rng, task.fitter, timing)
-    metrics = _quality(estimate, truth, points, normals, score_rng)
-    accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
-    truth_dict = truth.to_dict() if truth.kind != "mesh" else {"mesh": p["object"]}
+    seeds = TrialSeeds.from_case(*_seeds(case), shape_first=True)
+    truth = _object_truth(case.params["object"], seeds.generator("object"))
+    metrics, estimate = _run_trial(task, seeds, truth, timing)
+    truth_dict = truth.to_dict() if truth.kind != "mesh" else {"mesh": case.params["object"]}
+    return {**metrics, "truth": truth_dict}, estimate
+
+
+def _run_trial(
+    task: CaseTask, seeds: Any, truth: Any, timing: dict
+) -> tuple[dict[str, Any], Any]:
+    """An ``explore`` or ``objects`` case through the one pipeline
+    (:func:`hapticsim.exploration.run_trial`): the case's strategy, count and noise on `truth`
+    with the built-in hand, its method (or the plug-in fitter) without free space, as the
+    suites were made."""
+    from hapticsim.exploration import Trial, run_trial
+
+    p = task.case.params
+    trial = Trial(object=truth, explorer=p["strategy"], count=p["count"], noise=p["noise"],
+                  estimator=p["method"], free_space=False)  # fmt: skip
+    plugin = None if task.fitter is None else _plugin_fitter(task.fitter)
+    record = run_trial(trial, seeds, fitter=plugin, truth=truth)
+    timing["fit"] = record.fit_seconds
+    info = record.fit_info if plugin is None else {**record.fit_info, "fitter": task.fitter}
+    metrics = record.metrics()
+    accuracy = record.accuracy
+    run = record.exploration
     return {
         **metrics, **info, "contacts": run.count, "complete": run.count >= p["count"],
         "distance_median": accuracy["distance_median"],
-        "angle_median_deg": accuracy["angle_median_deg"], "truth": truth_dict,
-    }, estimate  # fmt: skip
+        "angle_median_deg": accuracy["angle_median_deg"],
+    }, record.estimate  # fmt: skip
+
+
+def _plugin_fitter(spec: str) -> Any:
+    """A lab's ``MODULE:FUNCTION`` as the pipeline's fitter: its failures and values that are
+    not solids fail the case (:class:`_PluginError`), not the run."""
+    func = load_fitter(spec)
+
+    def fitter(points: Any, normals: Any) -> Any:
+        try:
+            value = func(points, normals)
+        except Exception as exc:  # noqa: BLE001 - the plug-in's failure is the case's result
+            detail = " ".join(str(exc).split())
+            raise _PluginError(
+                f"the fitter {spec} raised {type(exc).__name__}: {detail}"
+            ) from None
+        try:
+            return as_solid(value)
+        except InvalidInputError as exc:
+            raise _PluginError(str(exc)) from None
+
+    return fitter
 
 
 _RUNNERS = {"fit": _run_fit, "explore": _run_explore, "policy": _run_policy,

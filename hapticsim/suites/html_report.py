@@ -24,8 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim._files import OutputSet, write_text_atomic
-from hapticsim.experiments.explore_report import write_bytes_atomic
+from hapticsim._files import OutputSet, write_bytes_atomic, write_text_atomic
 from hapticsim.suites.compare import compare_results, load_results
 from hapticsim.suites.report import COLUMNS
 

@@ -20,7 +20,6 @@ from typing import Any
 import numpy as np
 
 from hapticsim.data.bodies import BODY_NAMES
-from hapticsim.envs.exploration import POLICY_STRATEGIES
 from hapticsim.errors import InvalidInputError
 
 #: Marks a parameter without default.
@@ -89,9 +88,9 @@ def _strategies() -> tuple[str, ...]:
 
 
 def _explorations() -> tuple[str, ...]:
-    from hapticsim.sim.strategies import strategy_names
+    from hapticsim.exploration import explorer_names
 
-    return (*strategy_names(), *POLICY_STRATEGIES)
+    return explorer_names()
 
 
 def _object(value: Any, name: str) -> str:

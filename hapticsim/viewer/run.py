@@ -16,133 +16,17 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from hapticsim._files import read_json
-from hapticsim.data.io import read_contacts
+from hapticsim.data.rundir import RunData, load_run, missing_files
 from hapticsim.errors import InvalidInputError
-from hapticsim.geometry import Solid, solid_from_dict, solid_from_json
+from hapticsim.geometry import Solid
 
-#: Files every run directory holds (the truth is either of TRUTH_FILES).
-REQUIRED_FILES: tuple[str, ...] = ("contacts.npz", "fit.json", "metrics.json")
-TRUTH_FILES: tuple[str, ...] = ("truth.json", "truth.stl")
 #: Methods the replay refits after every touch as they are; others are replayed with nH.
 REPLAY_METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
 #: Fewest contacts a superquadric is fitted to (13 parameters).
 MIN_FIT_CONTACTS: int = 13
-
-
-@dataclass
-class RunData:
-    """What the viewer shows of one run.
-
-    Attributes:
-        path: the run directory.
-        truth: the true solid [m, world].
-        estimate: the run's fitted solid.
-        method: the run's fitting method.
-        points, normals: (n, 3) measured contacts [m] and unit normals, in recording order.
-        finger: (n,) int, finger of each contact; finger_names: the hand's fingers (or
-            ``finger 0`` ...).
-        metrics: ``metrics.json``.
-        hand: ``hand.npz``'s arrays, or None (an older run).
-        taxels: (n, rows, cols) pressure image of each contact's pad, or None.
-    """
-
-    path: Path
-    truth: Solid
-    estimate: Solid
-    method: str
-    points: np.ndarray
-    normals: np.ndarray
-    finger: np.ndarray
-    finger_names: tuple[str, ...]
-    metrics: dict[str, Any]
-    hand: dict[str, np.ndarray] | None = None
-    taxels: np.ndarray | None = None
-
-    @property
-    def title(self) -> str:
-        """One line naming the run: object, hand, strategy, method and its epsilon."""
-        m = self.metrics
-        return (
-            f"{m.get('object', '?')} touched by the {m.get('hand', '?')} hand, "
-            f"{m.get('strategy', '?')} exploration, {len(self.points)} contacts, {self.method} "
-            f"fit: epsilon = {m.get('epsilon', float('nan')):.3f}"
-        )
-
-
-def missing_files(path: Path) -> list[str]:
-    """The required files missing from run directory `path` (the truth as 'truth.json or
-    truth.stl')."""
-    missing = [name for name in REQUIRED_FILES if not (path / name).is_file()]
-    if not any((path / name).is_file() for name in TRUTH_FILES):
-        missing.append(" or ".join(TRUTH_FILES))
-    return missing
-
-
-def load_run(path: str | Path) -> RunData:
-    """Read run directory `path` (module docstring).
-
-    Raises:
-        InvalidInputError: not a directory, required files missing (all named), or a file that
-            does not read.
-    """
-    from hapticsim.data.objects import load_mesh
-
-    run = Path(path)
-    if not run.is_dir():
-        raise InvalidInputError(f"{run} is not a run directory (hapticsim explore --out DIR)")
-    missing = missing_files(run)
-    if missing:
-        raise InvalidInputError(
-            f"{run} is not a complete explore run: missing {', '.join(missing)}"
-        )
-    contacts = read_contacts(run / "contacts.npz")
-    n = len(contacts.points)
-    extra = contacts.extra or {}
-    finger = np.asarray(extra["finger"], int) if "finger" in extra else np.zeros(n, int)
-    truth = (
-        solid_from_json(run / "truth.json") if (run / "truth.json").is_file()
-        else load_mesh(run / "truth.stl")
-    )  # fmt: skip
-    fit = _read_object(run / "fit.json")
-    estimate = solid_from_dict(fit)
-    metrics = _read_object(run / "metrics.json")
-    hand = _read_npz(run / "hand.npz") if (run / "hand.npz").is_file() else None
-    names = (
-        tuple(str(s) for s in hand["finger_names"]) if hand is not None and "finger_names" in hand
-        else tuple(f"finger {i}" for i in range(int(finger.max(initial=0)) + 1))
-    )  # fmt: skip
-    taxels = None
-    if (run / "tactile.npz").is_file():
-        tactile = _read_npz(run / "tactile.npz")
-        images = tactile.get("images")
-        if images is not None and len(images) == n:
-            taxels = images[np.arange(n), finger]
-    return RunData(
-        path=run, truth=truth, estimate=estimate, method=str(fit.get("method", "nH")),
-        points=contacts.points, normals=contacts.normals, finger=finger, finger_names=names,
-        metrics=metrics, hand=hand, taxels=taxels,
-    )  # fmt: skip
-
-
-def _read_object(path: Path) -> dict[str, Any]:
-    data = read_json(path)
-    if not isinstance(data, dict):
-        raise InvalidInputError(f"{path} must hold a JSON object")
-    return data
-
-
-def _read_npz(path: Path) -> dict[str, np.ndarray]:
-    try:
-        with np.load(path) as data:
-            return {k: data[k] for k in data.files}
-    except (OSError, ValueError) as exc:
-        raise InvalidInputError(f"{path} does not read as a .npz file: {exc}") from None
 
 
 @dataclass

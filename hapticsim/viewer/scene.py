@@ -19,7 +19,7 @@ from hapticsim.viewer.run import RunData, State
 #: Layer names, in the order of the viewer's toggles.
 LAYERS: tuple[str, ...] = ("truth", "contacts", "normals", "estimate", "hand", "taxels")
 #: Colours (RGB 0-255): truth, estimate parts; fingers follow matplotlib's tab colours as the
-#: report does (hapticsim.experiments.explore_report.FINGER_COLORS).
+#: report does (hapticsim.exploration.report.FINGER_COLORS).
 TRUTH_RGB: tuple[int, int, int] = (31, 119, 180)
 PART_RGB: tuple[tuple[int, int, int], ...] = (
     (255, 127, 14), (255, 215, 0), (227, 119, 194), (23, 190, 207), (188, 189, 34),

@@ -14,7 +14,7 @@ from hapticsim.cli import main
 from hapticsim.data.bodies import get_body
 from hapticsim.data.example_meshes import truncated_pyramid
 from hapticsim.data.objects import ObjectSpec, Pose, write_stl
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hapticsim.data.io import read_contacts
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 from tests.test_cli_core import assert_bad_input, run
 
 

@@ -376,10 +376,11 @@ def _interrupt_on_call(monkeypatch: pytest.MonkeyPatch, module, name: str, call:
 def test_ctrl_c_while_explore_writes_its_files_leaves_none_of_them(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
 ) -> None:
-    from hapticsim.data import io
+    from hapticsim.data import rundir
 
-    # contacts.npz and truth.json are written, then Ctrl-C arrives as fit.json is
-    _interrupt_on_call(monkeypatch, io, "write_json", 2)
+    # contacts.npz and truth.json are written, then Ctrl-C arrives as metrics.json is (the
+    # run directory's own write_json: the name it calls)
+    _interrupt_on_call(monkeypatch, rundir, "write_json", 2)
     argv = ["explore", "--object", "ellipsoid", "--strategy", "patch", "--count", "20",
             "--method", "nLS", "--quiet", "--out", str(tmp_path / "run")]  # fmt: skip
     assert main(argv) == 130

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from hapticsim.errors import InvalidInputError, SimulationError
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 from hapticsim.geometry import Superquadric
 from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import build_scene

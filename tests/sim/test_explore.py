@@ -9,7 +9,7 @@ import pytest
 
 from hapticsim.data.bodies import BODY_NAMES
 from hapticsim.data.io import read_contacts
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 
 NPZ_KEYS = {"points", "normals", "points_clean", "normals_clean", "finger", "force", "time"}
 

@@ -8,7 +8,7 @@ import pytest
 from hapticsim.data.bodies import get_body
 from hapticsim.data.io import FREE_SPACE_KEY, read_contacts
 from hapticsim.errors import InvalidInputError
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 from hapticsim.geometry import Superquadric
 from hapticsim.sim.free_space import FreeSpaceTrace, near_contacts
 

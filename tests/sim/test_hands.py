@@ -220,7 +220,7 @@ def test_third_party_hands_meet_the_issue_targets(hand: str, body: str, tmp_path
     normal angle <= 2 deg (p95 <= 10), nH epsilon <= 0.10. Measured (seed 0): 150 contacts,
     distances < 1e-5 m, angle medians <= 0.8 deg and p95 <= 1.4 deg, epsilon < 0.001."""
     _gymnasium_robotics()
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
 
     summary = explore(body, "paper", noise=0.0, method="nH", seed=0, out_dir=tmp_path,
                       progress=False, hand=hand)  # fmt: skip

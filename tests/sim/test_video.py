@@ -9,7 +9,7 @@ import pytest
 from PIL import Image
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 from hapticsim.geometry import Superquadric
 from hapticsim.sim.session import run_exploration
 from hapticsim.sim.video import ExplorationVideo, VideoConfig

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from hapticsim.experiments.explore import explore
+from hapticsim.exploration import explore
 
 #: Contacts of the default tests' run.
 COUNT = 40

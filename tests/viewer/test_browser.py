@@ -211,7 +211,7 @@ def test_the_suite_report_page_loads_its_pictures(browser, tmp_path: Path) -> No
 def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) -> None:  # noqa: ANN001
     from hapticsim.data.example_meshes import l_block
     from hapticsim.data.objects import write_stl
-    from hapticsim.experiments.explore import explore
+    from hapticsim.exploration import explore
 
     write_stl(tmp_path / "l_block.stl", l_block())
     out = tmp_path / "run"

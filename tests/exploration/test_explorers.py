@@ -1,4 +1,4 @@
-"""explore --strategy with the environment's policies (uncertainty, learned) on the MuJoCo hand."""
+"""Explorers: scripted strategies and environment policies behind one protocol."""
 
 from __future__ import annotations
 
@@ -6,8 +6,22 @@ import numpy as np
 import pytest
 
 from hapticsim.data import get_body
-from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
 from hapticsim.errors import InvalidInputError
+from hapticsim.exploration import (
+    PolicyExplorer,
+    StrategyExplorer,
+    Trial,
+    check_explorer,
+    explorer_for,
+    explorer_names,
+    is_policy,
+)
+
+
+def run_policy_exploration(truth, name, count, rng=0, scene_config=None, max_touches=None):  # noqa: ANN001, ANN201
+    return PolicyExplorer(name, max_touches).explore(
+        truth, count, np.random.default_rng(rng), scene_config
+    )
 
 
 def test_the_uncertainty_policy_gathers_accurate_contacts_all_round() -> None:
@@ -23,11 +37,29 @@ def test_the_uncertainty_policy_gathers_accurate_contacts_all_round() -> None:
     assert set(run.pattern_kinds) <= {"patch", "stripe"}
 
 
-def test_policy_names() -> None:
-    assert is_policy_strategy("uncertainty") and is_policy_strategy("learned:w.npz")
-    assert not is_policy_strategy("paper") and not is_policy_strategy("learned:")
-    with pytest.raises(InvalidInputError, match="`policy` must be one of"):
-        run_policy_exploration(get_body("cube"), "sweep", 40)
+def test_explorer_names() -> None:
+    assert is_policy("uncertainty") and is_policy("learned:w.npz")
+    # "paper" names the scripted strategy; a policy of the same name is the environment's
+    assert not is_policy("paper") and not is_policy("learned:") and not is_policy("sweep")
+    assert isinstance(explorer_for("paper"), StrategyExplorer)
+    assert isinstance(explorer_for("learned:w.npz"), PolicyExplorer)
+    names = explorer_names()
+    assert len(names) == len(set(names)) and {"paper", "sweep", "uncertainty"} <= set(names)
+    for bad in ("swep", "learned:", 3, None):
+        with pytest.raises(InvalidInputError, match="`strategy` must be one of"):
+            check_explorer(bad)
+    with pytest.raises(InvalidInputError, match="did you mean 'sweep'"):
+        Trial(explorer="swep")
+
+
+def test_both_explorers_give_the_same_exploration_record() -> None:
+    cube = get_body("cube")
+    rng = np.random.default_rng(0)
+    scripted = StrategyExplorer("patch").explore(cube, 25, rng, None)
+    policy = run_policy_exploration(cube, "random", 25)
+    assert type(scripted) is type(policy)
+    assert set(scripted.arrays) == set(policy.arrays)
+    assert scripted.count == policy.count == 25
 
 
 def test_a_tactile_actor_explores_through_the_hands_pads(tmp_path) -> None:  # noqa: ANN001

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -204,11 +203,4 @@ def png_bytes(image: NDArray[np.uint8]) -> bytes:
     return buf.getvalue()
 
 
-def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
-    """Write bytes through a temporary sibling file and a rename (``hapticsim.data.io``'s)."""
-    from hapticsim.data.io import atomic_write
-
-    return atomic_write(path, lambda fh: fh.write(data), "wb")
-
-
-__all__ = ["exploration_figure_png", "png_bytes", "prepare_figures", "write_bytes_atomic"]
+__all__ = ["exploration_figure_png", "png_bytes", "prepare_figures"]

@@ -33,8 +33,10 @@ output directory:
   or ``"gif"``,
   ``exploration.mp4``/``.gif`` (:mod:`hapticsim.sim.video`).
 
-Everything is computed before the first file is written, and every file is written to a
-temporary name and renamed, so a failure leaves no half-written output.
+The trial runs through the one pipeline (:func:`hapticsim.exploration.pipeline.run_trial`) and
+the run directory is written by :func:`hapticsim.data.rundir.write_run`: everything is computed
+before the first file is written, and every file is written to a temporary name and renamed, so
+a failure leaves no half-written output.
 """
 
 from __future__ import annotations
@@ -49,28 +51,14 @@ from typing import Any
 
 import numpy as np
 
-from hapticsim._files import OutputSet
-from hapticsim._validate import finite_float, positive_int
-from hapticsim.constants import MAX_CONTACTS
-from hapticsim.envs.exploration import is_policy_strategy, run_policy_exploration
-from hapticsim.errors import InvalidInputError, SimulationError
-from hapticsim.experiments.explore_report import (
-    exploration_figure_png,
-    png_bytes,
-    prepare_figures,
-    write_bytes_atomic,
-)
-from hapticsim.geometry import Superquadric, matrix_to_quaternion
-from hapticsim.sim.free_space import near_contacts
+from hapticsim.data.rundir import npz_bytes, write_run
+from hapticsim.errors import InvalidInputError
+from hapticsim.exploration.pipeline import FREE_MARGIN, TrialHooks, TrialRecord, run_trial
+from hapticsim.exploration.report import exploration_figure_png, png_bytes, prepare_figures
+from hapticsim.exploration.trial import DEFAULT_CONTACTS, Trial
 
 # headless rendering; must be set before mujoco is first imported (hapticsim.sim does it too)
 os.environ.setdefault("MUJOCO_GL", "egl")
-
-#: Default number of contacts (paper IV).
-DEFAULT_CONTACTS: int = 150
-#: With nML, how far outside the solid the fingertip centres must lie, in fingertip radii (the
-#: fingertip's own sphere less a quarter for the first-order distance; docs/nml/README.md).
-FREE_MARGIN: float = 0.75
 
 
 def explore(
@@ -99,7 +87,7 @@ def explore(
             ``.off``), or an :class:`~hapticsim.data.objects.ObjectSpec`.
         strategy: exploration strategy (``hapticsim.sim.strategies.strategy_names()``), or an
             environment policy choosing each touch from what was felt (``uncertainty``,
-            ``learned``, ``learned:PATH``, ``random``: :mod:`hapticsim.envs.exploration`).
+            ``learned``, ``learned:PATH``, ``random``: :mod:`hapticsim.exploration.explorers`).
         noise: relative sensor noise sigma_N (SPEC §5), >= 0.
         method: fitting method, ``LS``, ``H``, ``nLS`` or ``nH``, or ``nML`` (which also keeps
             the solid :data:`FREE_MARGIN` fingertip radii away from the fingertip centres along
@@ -141,8 +129,8 @@ def explore(
             unstable, or too few contacts were gathered.
     """
     from hapticsim.data.objects import ObjectSpec, Pose
-    from hapticsim.fitting.methods import FIT_METHODS as METHODS
-    from hapticsim.sim.session import MIN_CONTACTS
+    from hapticsim.sim.scene import SceneConfig
+    from hapticsim.sim.video import VideoConfig, check_video_support
 
     if isinstance(pose, str):
         pose = Pose.parse(pose)
@@ -152,76 +140,44 @@ def explore(
         spec = object_name
     else:
         spec = ObjectSpec(object_name, scale=scale, pose=pose)
-    from hapticsim.sim.strategies import get_strategy
-
-    if not is_policy_strategy(strategy):
-        get_strategy(strategy)
-    if not isinstance(method, str) or method not in METHODS:
-        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
-    sigma = finite_float(noise, "noise", low=0.0)
-    seed = positive_int(seed, "seed", minimum=0)
-    count = positive_int(count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)
-    from hapticsim.sim.scene import SceneConfig
-    from hapticsim.sim.video import VideoConfig, check_video_support
-
     if sensing != "tactile" and (skin is not None or taxel_model != "hapticsim"):
         raise InvalidInputError(
             "`skin` and `taxel_model` are for tactile sensing (--sensing tactile), got "
             f"sensing {sensing!r}"
         )
-    scene_config = SceneConfig(
-        hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
-        taxel_model=taxel_model,
-    )  # fmt: skip
+    scene = SceneConfig(hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
+                        taxel_model=taxel_model)  # fmt: skip
+    trial = Trial(object=spec, explorer=strategy, count=count, noise=noise, estimator=method,
+                  seed=seed, scene=scene)  # fmt: skip
     video_config = None if video is None else VideoConfig(format=video)
     if video_config is not None:
         check_video_support(video_config)
-    default = Path("runs") / f"{spec.name}-{strategy}-seed{seed}"
+    default = Path("runs") / f"{spec.name}-{strategy}-seed{trial.seed}"
     out = Path(out_dir) if out_dir is not None else default
     if out.exists() and not out.is_dir():
         raise InvalidInputError(f"`out_dir` {out} exists and is not a directory")
-    # the object's own stream: spawn(4)[:3] are the streams of the simulation, noise and fit
-    truth = spec.resolve(np.random.default_rng(np.random.SeedSequence(seed).spawn(4)[3]))
-    return _explore(truth, spec, strategy, sigma, method, seed, out, render, progress, count,
-                    scene_config=scene_config, video_config=video_config)  # fmt: skip
+    return _explore(trial, out, render, progress, video_config)
 
 
 def _explore(
-    truth: Any, spec: Any, strategy: str, sigma: float, method: str, seed: int,
-    out: Path, render: bool, progress: bool, count: int, scene_config: Any = None,
-    video_config: Any = None,
-) -> dict[str, Any]:  # fmt: skip
+    trial: Trial, out: Path, render: bool, progress: bool, video_config: Any
+) -> dict[str, Any]:
+    """Run `trial` with a progress bar, pictures and the hand's trace; write the run directory."""
     from tqdm import tqdm
 
-    from hapticsim.data.io import FREE_SPACE_KEY
-    from hapticsim.data.noise import add_noise
-    from hapticsim.data.objects import truth_file as truth_file_of
-    from hapticsim.fitting import fit
     from hapticsim.fitting.kernels import start_background
-    from hapticsim.fitting.methods import uses_normals
-    from hapticsim.fitting.ml import MLOptions
-    from hapticsim.metrics import score, theta
-    from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.hand_trace import HandTrace
-    from hapticsim.sim.session import run_exploration
     from hapticsim.sim.video import ExplorationVideo
 
     start = time.perf_counter()
     # A fresh installation compiles the fitter's kernels in worker processes while the hand
-    # explores (hapticsim.fitting.kernels); the fit below waits for them.
-    compiling = start_background(method, stream=sys.stderr if progress else io.StringIO())
-    object_name = spec.name
-    seeds = np.random.SeedSequence(seed).spawn(3)
-    sim_rng, noise_rng = (np.random.default_rng(s) for s in seeds[:2])
-    fit_seed = int(seeds[2].generate_state(1)[0])
-    bar = tqdm(total=count, desc=f"explore {object_name}", unit="contact", file=sys.stderr,
+    # explores (hapticsim.fitting.kernels); the fit waits for them.
+    compiling = start_background(trial.estimator,
+                                 stream=sys.stderr if progress else io.StringIO())  # fmt: skip
+    bar = tqdm(total=trial.count, desc=f"explore {trial.name}", unit="contact", file=sys.stderr,
                disable=not progress, leave=False)  # fmt: skip
     picture: dict[str, bytes] = {}
     video = None if video_config is None else ExplorationVideo(video_config)
-    hand_trace = HandTrace()  # the hand at every touch: hand.npz, for `hapticsim view`
-
-    def on_progress(n: int) -> None:
-        bar.update(n - bar.n)
 
     def on_pattern_end(explorer: Any) -> None:
         kinds = explorer.recorder.pattern_kinds
@@ -230,22 +186,7 @@ def _explore(
 
             picture["scene"] = png_bytes(render_scene(explorer.sim))
 
-    try:
-        try:
-            if is_policy_strategy(strategy):  # an environment policy chooses every touch
-                run = run_policy_exploration(truth, strategy, count, sim_rng, scene_config,
-                                             progress=on_progress, video=video,
-                                             hand_trace=hand_trace)  # fmt: skip
-            else:
-                run = run_exploration(truth, strategy, count, sim_rng, scene_config=scene_config,
-                                      progress=on_progress, on_pattern_end=on_pattern_end,
-                                      video=video, hand_trace=hand_trace)  # fmt: skip
-        except SimulationError as exc:
-            raise SimulationError(
-                f"{exc} [object {object_name!r}, strategy {strategy!r}, seed {seed}; to "
-                f"reproduce: hapticsim explore --object {spec.source} --strategy {strategy} "
-                f"--seed {seed} --count {count}{_placement_args(spec)}{_hand_args(scene_config)}]"
-            ) from exc
+    def before_fit(run: Any) -> None:
         if render and "scene" not in picture:
             from hapticsim.sim.render import render_scene
 
@@ -253,49 +194,19 @@ def _explore(
         if video is not None:
             bar.set_postfix_str("encoding the video")
             picture["video"] = video.finish()
-        a = run.arrays
-        tactile = scene_config.sensing == "tactile"
-        points, normals = add_noise(
-            a["points_clean"], a["normals_clean"], sigma, truth.size, noise_rng
-        )
         if compiling is not None:
             bar.set_postfix_str("compiling the fitter's kernels (once per installation)")
             prepare_figures()  # meanwhile: this process is idle
             compiling.wait(say=lambda line: bar.set_postfix_str(line.removeprefix("hapticsim: ")),
                            load=True)  # fmt: skip
-        bar.set_postfix_str("fitting")
-        # nML keeps the solid out of where the fingertips have been: their centres, by 0.75 of
-        # the smallest fingertip radius (docs/nml/README.md: free space).
-        free_space = near_contacts(run.free_space, a["points_clean"])
-        radius = min(f.tip_radius for f in run.explorer.scene.hand.description.fingers)
-        ml = {"free": free_space, "options": MLOptions(free_margin=FREE_MARGIN * radius)}
-        if tactile:  # each estimate weighs in by its own uncertainties
-            ml["sigma"], ml["sigma_normal"] = a["sigma"], a["sigma_normal"]
-        extra = ml if method == "nML" else {"free": free_space} if method == "multi" else {}
-        result = fit(points, normals, method=method, rng=fit_seed, **extra)
-        bar.set_postfix_str("scoring")
-        estimate = result.solid  # multi's union; the superquadric of every other method
-        quality = score(estimate, truth, rng=seed)
-        accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
-        accuracy_exact = (
-            contact_accuracy(truth, a["points_exact"], a["normals_exact"]) if tactile else None
-        )
-        th = (  # theta needs the EOFs of superquadrics: undefined for other solids
-            float(theta(estimate, truth, points, normals if uses_normals(method) else None))
-            if isinstance(truth, Superquadric) and isinstance(estimate, Superquadric)
-            else None
-        )  # fmt: skip
-        truth_file = truth_file_of(truth)
-        sensed = f", {scene_config.skin.name} skin" if tactile else ""
-        hand_description = run.explorer.scene.hand.description
-        report = exploration_figure_png(
-            truth, estimate, a["points_clean"], a["normals_clean"], a["finger"],
-            f"{object_name} touched by the {hand_description.name} hand, {strategy} exploration "
-            f"({run.count} contacts{sensed}, sigma_N = {sigma}), {method} fit: epsilon = "
-            f"{quality.epsilon:.3f}, IoU = {quality.iou:.3f}",
-            tactile=_report_images(run) if tactile else None,
-            finger_names=[f.name for f in hand_description.fingers],
-        )  # fmt: skip
+
+    hooks = TrialHooks(
+        progress=lambda n: bar.update(n - bar.n), on_pattern_end=on_pattern_end, video=video,
+        hand_trace=HandTrace(), status=bar.set_postfix_str, before_fit=before_fit,
+    )  # fmt: skip
+    try:
+        record = run_trial(trial, hooks=hooks)
+        report = _report_png(record)
     except BaseException:
         if compiling is not None:  # nothing to fit: the workers go too
             compiling.stop()
@@ -304,79 +215,118 @@ def _explore(
         bar.close()
         if video is not None:
             video.close()
-
-    hand_name = run.explorer.scene.hand.description.name
-    metrics = {
-        **quality.to_dict(),
-        "theta": th,
-        "contact_accuracy": accuracy,
+    run = record.exploration
+    summary = {
+        "out_dir": str(out),
+        "files": {},
+        "object": trial.name,
+        "strategy": trial.explorer,
+        "hand": run.explorer.scene.hand.description.name,
+        "method": trial.estimator,
+        "noise": trial.noise,
+        "seed": trial.seed,
         "contacts": run.count,
         **_completeness(run),
-        "noise": sigma,
-        "method": method,
-        "strategy": strategy,
-        "object": object_name,
-        "object_spec": spec.to_dict(),
-        "truth": truth_file[0],
-        "hand": hand_name,
-        "seed": seed,
-        "vision": run.rough.to_dict(),
-        "collision": run.explorer.scene.collision_method,
+        "metrics": record.quality.to_dict() | {"theta": record.theta},
+        "contact_accuracy": record.accuracy,
+        "sensing": trial.scene.sensing,
+        **({"skin": trial.scene.skin.name, "unfelt": run.unfelt}
+           if trial.scene.sensing == "tactile" else {}),  # fmt: skip
+        "fit": {
+            "eof": record.fit.eof,
+            "evaluations": record.fit.evaluations,
+            "seconds": record.fit.seconds,
+            "setup_seconds": record.fit.setup_seconds,
+        },
+        "simulation": _sim_stats(run),
     }
-    sim_stats = {
+    files = _write(out, record, report, picture, video_config, hooks.hand_trace)
+    summary["files"] = {k: str(v) for k, v in files.items()}
+    summary["seconds"] = time.perf_counter() - start
+    return summary
+
+
+def _report_png(record: TrialRecord) -> bytes:
+    """The report picture: truth, estimate, contacts with normals (and pad images)."""
+    trial, run, a = record.trial, record.exploration, record.exploration.arrays
+    tactile = trial.scene.sensing == "tactile"
+    sensed = f", {trial.scene.skin.name} skin" if tactile else ""
+    hand = run.explorer.scene.hand.description
+    q = record.quality
+    return exploration_figure_png(
+        record.truth, record.estimate, a["points_clean"], a["normals_clean"], a["finger"],
+        f"{trial.name} touched by the {hand.name} hand, {trial.explorer} exploration "
+        f"({run.count} contacts{sensed}, sigma_N = {trial.noise}), {trial.estimator} fit: "
+        f"epsilon = {q.epsilon:.3f}, IoU = {q.iou:.3f}",
+        tactile=_report_images(run) if tactile else None,
+        finger_names=[f.name for f in hand.fingers],
+    )  # fmt: skip
+
+
+def _sim_stats(run: Any) -> dict[str, Any]:
+    return {
         "sim_time": run.sim_time,
         "steps": run.steps,
         "wall_time": run.wall_time,
         "steps_per_second": run.steps_per_second,
         "patterns": {k: run.pattern_kinds.count(k) for k in ("patch", "stripe")},
     }
-    metrics["simulation"] = sim_stats
-    metrics["sensing"] = scene_config.sensing
-    if tactile:
-        metrics["skin"] = scene_config.skin.to_dict()
-        metrics["taxel_model"] = scene_config.taxel_model
-        metrics["contact_accuracy_exact"] = accuracy_exact
-        metrics["tactile"] = _tactile_summary(run)
 
-    out.mkdir(parents=True, exist_ok=True)
+
+def _write(
+    out: Path, record: TrialRecord, report: bytes, picture: dict[str, bytes], video_config: Any,
+    hand_trace: Any,
+) -> dict[str, Path]:  # fmt: skip
+    """The run directory of `record` (:mod:`hapticsim.data.rundir`)."""
+    from hapticsim.data.io import FREE_SPACE_KEY, Contacts
+    from hapticsim.data.objects import truth_file as truth_file_of
+
+    trial, run, a = record.trial, record.exploration, record.exploration.arrays
+    tactile = trial.scene.sensing == "tactile"
+    spec = trial.object
+    truth_file = truth_file_of(record.truth)
+    metrics = {
+        **record.quality.to_dict(),
+        "theta": record.theta,
+        "contact_accuracy": record.accuracy,
+        "contacts": run.count,
+        **_completeness(run),
+        "noise": trial.noise,
+        "method": trial.estimator,
+        "strategy": trial.explorer,
+        "object": trial.name,
+        "object_spec": spec.to_dict(),
+        "truth": truth_file[0],
+        "hand": run.explorer.scene.hand.description.name,
+        "seed": trial.seed,
+        "vision": run.rough.to_dict(),
+        "collision": run.explorer.scene.collision_method,
+        "simulation": _sim_stats(run),
+        "sensing": trial.scene.sensing,
+    }
+    if tactile:
+        metrics["skin"] = trial.scene.skin.to_dict()
+        metrics["taxel_model"] = trial.scene.taxel_model
+        metrics["contact_accuracy_exact"] = record.accuracy_exact
+        metrics["tactile"] = _tactile_summary(run)
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
     if tactile:
         keys += ("points_exact", "normals_exact", "force_exact", "sigma", "sigma_normal", "area",
                  "taxels")  # fmt: skip
     extra = {k: a[k] for k in keys}
     extra["pattern_kind"] = np.array([run.pattern_kinds[p] for p in a["pattern"]])
-    extra[FREE_SPACE_KEY] = free_space  # fingertip centres: free space for nML
-    extra["sensing"] = np.array(scene_config.sensing)
-    tactile_file = _tactile_file(run, scene_config.skin) if tactile else None
-    hand_file = _npz_bytes(hand_trace.arrays())
-    with OutputSet():  # all files or none, even on Ctrl-C
-        files = _write_outputs(out, points, normals, extra, truth_file, result, metrics,
-                               report, picture, video_config, tactile_file, hand_file)  # fmt: skip
-    return {
-        "out_dir": str(out),
-        "files": {k: str(v) for k, v in files.items()},
-        "object": object_name,
-        "strategy": strategy,
-        "hand": hand_name,
-        "method": method,
-        "noise": sigma,
-        "seed": seed,
-        "contacts": run.count,
-        **_completeness(run),
-        "metrics": quality.to_dict() | {"theta": th},
-        "contact_accuracy": accuracy,
-        "sensing": scene_config.sensing,
-        **({"skin": scene_config.skin.name, "unfelt": run.unfelt} if tactile else {}),
-        "fit": {
-            "eof": result.eof,
-            "evaluations": result.evaluations,
-            "seconds": result.seconds,
-            "setup_seconds": result.setup_seconds,
-        },
-        "simulation": sim_stats,
-        "seconds": time.perf_counter() - start,
-    }
-
+    extra[FREE_SPACE_KEY] = record.free_space  # fingertip centres: free space for nML
+    extra["sensing"] = np.array(trial.scene.sensing)
+    files = {"report": ("report.png", report)}
+    if tactile:
+        files["tactile"] = ("tactile.npz", _tactile_file(run, trial.scene.skin))
+    files["hand"] = ("hand.npz", npz_bytes(hand_trace.arrays()))
+    if "scene" in picture:
+        files["scene"] = ("scene.png", picture["scene"])
+    if "video" in picture:
+        files["video"] = (f"exploration.{video_config.format}", picture["video"])
+    return write_run(out, Contacts(record.points, record.normals, extra), truth_file,
+                     record.fit.to_dict(), metrics, files)  # fmt: skip
 
 def _tactile_summary(run: Any) -> dict[str, Any]:
     """What the skin did in a run (metrics.json)."""
@@ -395,14 +345,6 @@ def _tactile_summary(run: Any) -> dict[str, Any]:
     }  # fmt: skip
 
 
-def _npz_bytes(arrays: dict[str, Any]) -> bytes:
-    """Arrays as the bytes of a compressed ``.npz`` file."""
-
-    buf = io.BytesIO()
-    np.savez_compressed(buf, **arrays)
-    return buf.getvalue()
-
-
 def _tactile_file(run: Any, skin: Any) -> bytes:
     """The compressed ``tactile.npz`` of a run (module docstring)."""
 
@@ -415,7 +357,7 @@ def _tactile_file(run: Any, skin: Any) -> bytes:
     arrays["taxel_area"] = np.stack([lay.taxels[2] for lay in layouts])
     arrays["carrier"] = np.array([p.carrier for p in tactile.pads])
     arrays["skin"] = np.array(json.dumps(skin.to_dict()))
-    return _npz_bytes(arrays)
+    return npz_bytes(arrays)
 
 
 def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
@@ -429,61 +371,10 @@ def _report_images(run: Any, count: int = 8) -> dict[str, Any]:
     return {"images": images, "labels": [f"#{i + 1} {names[finger[i]]}" for i in picks]}
 
 
-def _write_outputs(
-    out: Path, points: Any, normals: Any, extra: dict[str, Any], truth_file: tuple[str, bytes],
-    result: Any, metrics: dict[str, Any], report: bytes, picture: dict[str, bytes],
-    video_config: Any, tactile_file: bytes | None = None, hand_file: bytes | None = None,
-) -> dict[str, Path]:  # fmt: skip
-    """Write the run's files in `out`; returns them by kind."""
-    from hapticsim.data.io import Contacts, write_contacts, write_json
-
-    files = {
-        "contacts": write_contacts(out / "contacts.npz", Contacts(points, normals, extra)),
-        "truth": write_bytes_atomic(out / truth_file[0], truth_file[1]),
-        "fit": write_json(out / "fit.json", result.to_dict()),
-        "metrics": write_json(out / "metrics.json", metrics),
-        "report": write_bytes_atomic(out / "report.png", report),
-    }
-    if tactile_file is not None:
-        files["tactile"] = write_bytes_atomic(out / "tactile.npz", tactile_file)
-    if hand_file is not None:
-        files["hand"] = write_bytes_atomic(out / "hand.npz", hand_file)
-    if "scene" in picture:
-        files["scene"] = write_bytes_atomic(out / "scene.png", picture["scene"])
-    if "video" in picture:
-        name = f"exploration.{video_config.format}"
-        files["video"] = write_bytes_atomic(out / name, picture["video"])
-    return files
-
-
-def _hand_args(scene_config: Any) -> str:
-    """The ``--hand`` (and sensing) options that reproduce the scene's hand ('' for the
-    default hand, exact sensing)."""
-    hand = getattr(scene_config, "hand", None)
-    text = ""
-    if hand is not None and hand.name != "hapticsim":
-        text = f" --hand {hand.source if hand.source is not None else hand.name}"
-    if getattr(scene_config, "sensing", "exact") == "tactile":
-        text += f" --sensing tactile --skin {scene_config.skin.name}"
-        if scene_config.taxel_model != "hapticsim":
-            text += f" --taxel-model {scene_config.taxel_model}"
-    return text
-
-
-def _placement_args(spec: Any) -> str:
-    """The ``--scale``/``--pose`` options that reproduce a spec's placement ('' if none)."""
-    text = "" if spec.scale == 1.0 else f" --scale {spec.scale}"
-    if spec.pose is not None:
-
-        values = [*spec.pose.position, *matrix_to_quaternion(spec.pose.rotation)]
-        text += " --pose " + ",".join(f"{v:.9g}" for v in values)
-    return text
-
-
 def _completeness(run: Any) -> dict[str, Any]:
     """``complete``, ``requested`` and ``stop_reason`` of a run (SPEC §6: a run that gathers
     fewer contacts than asked says so)."""
     return {"complete": run.complete, "requested": run.requested, "stop_reason": run.stop_reason}
 
 
-__all__ = ["DEFAULT_CONTACTS", "explore"]
+__all__ = ["DEFAULT_CONTACTS", "FREE_MARGIN", "explore"]
