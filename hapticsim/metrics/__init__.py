@@ -7,12 +7,16 @@
   booleans (:func:`boolean_overlap`).
 - :func:`chamfer`: symmetric Chamfer distance between the surfaces [m].
 - :func:`score`: all of them as a :class:`Score` (``hapticsim score`` prints its ``to_dict()``).
+- :func:`surface_score`: the reconstruction literature's F-score at distance thresholds (1,
+  2.5, 5 mm by default), precision, recall and normal consistency, with the Chamfer distance,
+  as a :class:`SurfaceScore`; :func:`anytime_area`: the normalised area under a touch curve.
 - :class:`~hapticsim.metrics.episode.TruthScorer`: many estimates against one truth, fast (the
   environment's per-step score).
 """
 
 from hapticsim.metrics.chamfer import chamfer, sample_surface, surface_distance
 from hapticsim.metrics.score import Score, score
+from hapticsim.metrics.surface import SurfaceScore, anytime_area, surface_score
 from hapticsim.metrics.theta import theta
 from hapticsim.metrics.volume import (
     VolumeOverlap,
@@ -27,6 +31,8 @@ from hapticsim.metrics.volume import (
 
 __all__ = [
     "Score",
+    "SurfaceScore",
+    "anytime_area",
     "VolumeOverlap",
     "alpha",
     "beta",
@@ -38,6 +44,7 @@ __all__ = [
     "sample_surface",
     "score",
     "surface_distance",
+    "surface_score",
     "theta",
     "volume_overlap",
 ]
