@@ -15,11 +15,10 @@ collision mesh is made of convex bodies (the procedural objects' blobs, the duck
 those as the convex pieces MuJoCo collides with (:attr:`MeshSolid.pieces`: no coacd run, which
 takes over a minute on the duck); a mesh file is read in metres.
 
-The models are not all clean closed surfaces: each is repaired as it is read (vertices merged
-across texture seams, zero-area faces dropped, its closed bodies fused by manifold3d's boolean
-union; blobs that only touch, within :data:`TOUCH_GAP`, stay one rigid object of several
-closed bodies). What still is not one object is refused with a message naming the problem (the
-teddy, for one: its fused convex hulls do not close; the mug is open).
+The models are not all clean closed surfaces: each is repaired as it is read, as every mesh is
+(:func:`hapticsim.data.mesh_repair.repair_mesh`: vertices merged across texture seams, small
+holes filled, slivers collapsed, its closed bodies fused by manifold3d's boolean union where
+they overlap or touch). What still is not one object is refused with a message naming why.
 """
 
 from __future__ import annotations
@@ -30,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hapticsim.data.mesh_repair import repair_mesh
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.mesh_solid import MeshSolid
 
@@ -45,9 +45,6 @@ ALIASES: dict[str, str] = {
     "soccerball": "soccerball.urdf",
     "mug": "objects/mug.urdf",
 }
-#: Closed bodies of one model nearer than this [m] (nearest vertices) are one object: the
-#: procedural objects' blobs touch at points and edges, which a boolean union leaves apart.
-TOUCH_GAP: float = 1e-3
 #: Number of procedural objects (``random/000`` ... ``random/999``).
 RANDOM_COUNT: int = 1000
 
@@ -134,64 +131,17 @@ def _hulls(path: Path, scale: tuple[float, float, float]) -> tuple[np.ndarray, .
 
 @lru_cache(maxsize=32)
 def _repaired(path: Path, scale: tuple[float, float, float]) -> MeshSolid:
-    """The closed solid of a mesh file, repaired (module docstring), in metres."""
-    import manifold3d
+    """The closed solid of a mesh file, repaired (:func:`~hapticsim.data.mesh_repair.
+    repair_mesh`), in metres."""
     import trimesh
 
-    mesh = _load(path)
-    mesh.update_faces(mesh.nondegenerate_faces())
-    mesh.remove_unreferenced_vertices()
-    bodies = mesh.split(only_watertight=False)
-    open_bodies = [b for b in bodies if not b.is_watertight]
-    if open_bodies or not bodies:
-        raise InvalidInputError(
-            f"{path.name} is not a closed surface ({len(open_bodies)} of its {len(bodies)} "
-            "bodies are open): it cannot be an object"
-        )
-    total = None
-    for body in bodies:
-        if body.volume < 0:
-            body.invert()
-        part = manifold3d.Manifold(manifold3d.Mesh(
-            vert_properties=np.asarray(body.vertices, np.float32) * np.float32(scale),
-            tri_verts=np.asarray(body.faces, np.uint32),
-        ))  # fmt: skip
-        total = part if total is None else total + part
-    assert total is not None
-    fused = total.to_mesh()
-    out = trimesh.Trimesh(np.asarray(fused.vert_properties[:, :3], np.float64),
-                          np.asarray(fused.tri_verts, np.int64))  # fmt: skip
-    out.update_faces(out.nondegenerate_faces())
-    out.remove_unreferenced_vertices()
-    if not out.is_watertight:
-        raise InvalidInputError(f"{path.name} is not a closed surface after its repair")
-    pieces = _apart(out.split(only_watertight=False))
-    if pieces > 1:
-        raise InvalidInputError(
-            f"{path.name} falls apart into {pieces} pieces more than {TOUCH_GAP * 1e3:g} mm "
-            "apart: it is not one object"
-        )
-    return MeshSolid(np.asarray(out.vertices), np.asarray(out.faces))
-
-
-def _apart(bodies: list) -> int:
-    """How many groups the closed bodies form when bodies within :data:`TOUCH_GAP` of each
-    other (nearest vertices) belong together."""
-    from scipy.spatial import cKDTree
-
-    group = list(range(len(bodies)))
-
-    def root(i: int) -> int:
-        while group[i] != i:
-            i = group[i]
-        return i
-
-    trees = [cKDTree(np.asarray(b.vertices)) for b in bodies]
-    for i in range(len(bodies)):
-        for j in range(i + 1, len(bodies)):
-            if trees[i].query(np.asarray(bodies[j].vertices))[0].min() <= TOUCH_GAP:
-                group[root(j)] = root(i)
-    return len({root(i) for i in range(len(bodies))})
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=False)
+    except Exception as exc:  # noqa: BLE001 - trimesh raises many kinds on bad files
+        raise InvalidInputError(f"cannot read the mesh {path}: {exc}") from exc
+    vertices = np.asarray(mesh.vertices, np.float64) * np.asarray(scale)
+    vertices, faces, report = repair_mesh(vertices, mesh.faces, path.name)
+    return MeshSolid(vertices, faces, repair=report.to_dict())
 
 
 def load_library_object(name: str, scale: float = 1.0) -> MeshSolid:
@@ -215,7 +165,7 @@ def load_library_object(name: str, scale: float = 1.0) -> MeshSolid:
             raise InvalidInputError(f"the mesh {path} of pybullet object {name!r} is missing")
     solid = _repaired(path, tuple(float(v) for v in mesh_scale * scale))
     if hulls is not None:  # the model's own convex collision hulls: no decomposition needed
-        solid = MeshSolid(solid.vertices, solid.faces, hulls)
+        solid = MeshSolid(solid.vertices, solid.faces, hulls, solid.repair)
     return solid.transformed(np.eye(3), -solid.centroid)
 
 

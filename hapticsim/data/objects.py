@@ -11,7 +11,8 @@ superquadric, a union of superquadrics or a mesh). The kinds (:data:`OBJECT_KIND
 ``random``            a random superquadric without taper, drawn from the seed
 ``random_tapered``    a random tapered superquadric, drawn from the seed
 ``random_composite``  a union of 2-4 overlapping random superquadrics (:func:`random_composite`)
-``mesh``              a mesh file (STL, OBJ, PLY or OFF, read by trimesh), metres times ``scale``
+``mesh``              a mesh file (STL, OBJ, PLY, OFF, GLB or glTF, read by trimesh), metres
+                      times ``scale``
 ``pybullet``          ``pybullet:NAME``, a model of the installed ``pybullet_data``
                       (:mod:`hapticsim.data.library`, extra ``objects``)
 ====================  ========================================================================
@@ -19,8 +20,8 @@ superquadric, a union of superquadrics or a mesh). The kinds (:data:`OBJECT_KIND
 Placement: a superquadric or union stands where its parameters put it (bodies and random shapes
 at the origin); a mesh is moved so that its centroid is at the origin. A :class:`Pose` places
 the object instead: ``x_world = R @ (scale * x_file) + t``, applied to the file's own
-coordinates (a mesh is then *not* re-centred). A mesh must be one closed (watertight) body; its
-faces are oriented outward if they are not.
+coordinates (a mesh is then *not* re-centred). A mesh is repaired into one closed solid as it is
+read (:mod:`hapticsim.data.mesh_repair`); what is not one solid is refused, saying why.
 
 Nothing here imports trimesh until a mesh is read or written.
 """
@@ -29,6 +30,7 @@ from __future__ import annotations
 
 import io as _io
 import json
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,6 +43,7 @@ from hapticsim._validate import as_generator, did_you_mean, finite_array, finite
 from hapticsim.constants import EPS_MAX, EPS_MIN, TAPER_MAX
 from hapticsim.data.bodies import BODY_NAMES, get_body
 from hapticsim.data.library import PREFIX, load_library_object
+from hapticsim.data.mesh_repair import repair_mesh
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import (
     Superquadric,
@@ -61,7 +64,7 @@ OBJECT_KINDS: tuple[str, ...] = (
 #: Names of the random kinds (drawn from a seed).
 RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered", "random_composite")
 #: Mesh file formats (suffixes) read through trimesh.
-MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off")
+MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 #: Default ranges of random superquadrics: semi-axes [m], exponents, tapers.
 RANDOM_A_RANGE: tuple[float, float] = (0.02, 0.05)
 RANDOM_EPS_RANGE: tuple[float, float] = (0.1, 1.0)
@@ -71,7 +74,8 @@ RANDOM_TAPER_RANGE: tuple[float, float] = (-0.4, 0.4)
 OBJECT_HELP: str = (
     "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric or union .json file, "
     "random / random_tapered / random_composite (drawn from the seed), a mesh file (.stl, .obj, "
-    ".ply, .off; metres unless scaled), or pybullet:NAME (duck, random/017, ...; extra objects)"
+    ".ply, .off, .glb; metres unless scaled), or pybullet:NAME (duck, mug, random/017, ...; "
+    "extra objects)"
 )
 
 Truth = Solid
@@ -353,10 +357,11 @@ class ObjectSpec:
 
 
 def load_mesh(path: str | Path, scale: float = 1.0) -> MeshSolid:
-    """Read a closed mesh file through trimesh, in the file's coordinates times `scale` [m].
-
-    Vertices are merged and degenerate faces dropped; faces are re-oriented outward when their
-    winding is inconsistent or inward.
+    """Read a mesh file through trimesh, in the file's coordinates times `scale` [m], repaired
+    into one closed solid (:func:`hapticsim.data.mesh_repair.repair_mesh`: vertices merged,
+    collapsed and repeated faces dropped, winding fixed, small holes filled, slivers collapsed,
+    bodies oriented outward and touching ones fused). What changed is said in one line on
+    stderr and kept in the solid's ``repair`` (``metrics.json``'s ``mesh_repair``).
 
     Args:
         path: an ``.stl``, ``.obj``, ``.ply`` or ``.off`` file.
@@ -364,7 +369,8 @@ def load_mesh(path: str | Path, scale: float = 1.0) -> MeshSolid:
 
     Raises:
         InvalidInputError: a missing file, an unknown format, a file trimesh cannot read, an
-            empty mesh, a mesh that is not watertight, or one of several separate bodies.
+            empty mesh, a hole too large to fill (its size named), or bodies apart (how many,
+            how far).
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -381,39 +387,16 @@ def load_mesh(path: str | Path, scale: float = 1.0) -> MeshSolid:
     import trimesh
 
     try:
-        mesh = trimesh.load(str(path), force="mesh", process=True)
+        mesh = trimesh.load(str(path), force="mesh", process=False)
     except Exception as exc:  # trimesh raises many types for malformed files
         raise InvalidInputError(f"cannot read mesh file {path}: {exc}") from exc
     faces = getattr(mesh, "faces", None)
     if not isinstance(mesh, trimesh.Trimesh) or faces is None or len(faces) == 0:
         raise InvalidInputError(f"mesh file {path} is empty: it holds no triangles")
-    mesh.update_faces(mesh.nondegenerate_faces())
-    mesh.remove_unreferenced_vertices()
-    if len(mesh.faces) < 4:
-        raise InvalidInputError(
-            f"mesh file {path} holds {len(mesh.faces)} non-degenerate triangles: not a solid"
-        )
-    if not mesh.is_watertight:
-        open_edges = _open_edge_count(mesh)
-        raise InvalidInputError(
-            f"mesh {path} is not watertight ({open_edges} open edges): the object must be a "
-            "closed surface"
-        )
-    if mesh.body_count > 1:
-        raise InvalidInputError(
-            f"mesh {path} holds {mesh.body_count} separate bodies: give one object per file"
-        )
-    if not mesh.is_winding_consistent:
-        trimesh.repair.fix_winding(mesh)
-    if mesh.volume < 0:
-        mesh.invert()
-    return MeshSolid(np.asarray(mesh.vertices, dtype=np.float64) * factor, np.asarray(mesh.faces))
-
-
-def _open_edge_count(mesh: Any) -> int:
-    edges = np.sort(np.asarray(mesh.edges), axis=1)
-    _, counts = np.unique(edges, axis=0, return_counts=True)
-    return int(np.count_nonzero(counts == 1))
+    vertices, faces, report = repair_mesh(mesh.vertices, mesh.faces, path.name, unit=factor)
+    if report.changed:
+        print(f"hapticsim: repaired mesh {path.name}: {report.summary()}", file=sys.stderr)
+    return MeshSolid(vertices * factor, faces, repair=report.to_dict())
 
 
 def stl_bytes(solid: MeshSolid) -> bytes:

@@ -304,6 +304,9 @@ def _write(
         "simulation": _sim_stats(run),
         "sensing": trial.scene.sensing,
     }
+    repair = getattr(record.truth, "repair", None)
+    if repair is not None:  # a mesh object: what its loader mended (SPEC §10)
+        metrics["mesh_repair"] = repair
     if tactile:
         metrics["skin"] = trial.scene.skin.to_dict()
         metrics["taxel_model"] = trial.scene.taxel_model

@@ -14,7 +14,7 @@ faces are counter-clockwise seen from outside (positive volume).
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -47,7 +47,7 @@ _FACES_PER_CELL: float = 2.0
 #: Largest number of grid cells per axis of the containment grid.
 _MAX_GRID: int = 256
 #: Relative tolerance of the convexity test (fraction of the bounding radius).
-_CONVEX_TOL: float = 1e-7
+_CONVEX_TOL: float = 1e-5
 #: Concavity threshold of the convex decomposition of non-convex meshes (coacd's ``threshold``,
 #: relative to the bounding-box diagonal). The L-block of ``hapticsim.data.example_meshes``
 #: splits into its two bars exactly at 0.05 and at 0.02.
@@ -74,6 +74,9 @@ class MeshSolid(Solid):
         pieces: the convex pieces it collides as, when its source gives them (a URDF's collision
             hulls: :mod:`hapticsim.data.library`): vertex arrays (k, 3) [m, world], each the
             vertices of one convex hull; None (default): itself when convex, else coacd's.
+        repair: what the loader mended to make it (:mod:`hapticsim.data.mesh_repair`'s record
+            as a dict, with the volume change), carried along its transforms; None for a mesh
+            made in code.
 
     Instances are immutable and validated on construction (finite vertices, indices in range,
     at least 4 faces, no zero-area face, closed and consistently oriented, positive volume);
@@ -86,6 +89,7 @@ class MeshSolid(Solid):
     vertices: Array
     faces: NDArray[np.int64]
     pieces: tuple[Array, ...] | None = None
+    repair: dict[str, Any] | None = field(default=None, repr=False)
 
     kind = "mesh"
 
@@ -211,8 +215,10 @@ class MeshSolid(Solid):
 
     @cached_property
     def is_convex(self) -> bool:
-        """True when every vertex lies on or behind the plane of every face (within 1e-7 of
-        the bounding radius)."""
+        """True when every vertex lies on or behind the plane of every face, within 1e-5 of the
+        bounding radius: above the precision of an STL's float32 coordinates (6e-8 of a
+        coordinate) and of a mesh's facets along a curved surface, as trimesh's own test
+        (1e-5 of the mesh's scale)."""
         tol = _CONVEX_TOL * self.bounding_radius
         n, p0 = self.face_normals, self.triangles[:, 0]
         offsets = np.einsum("ij,ij->i", n, p0)
@@ -470,7 +476,7 @@ class MeshSolid(Solid):
         if not is_rotation(r, tol=1e-6):
             raise InvalidInputError("`rotation` must be a proper rotation matrix")
         pieces = None if self.pieces is None else tuple(p @ r.T + t for p in self.pieces)
-        return MeshSolid(self.vertices @ r.T + t, self.faces, pieces)
+        return MeshSolid(self.vertices @ r.T + t, self.faces, pieces, self.repair)
 
     def scaled(self, factor: float) -> MeshSolid:
         """The solid scaled about the world origin by `factor` (> 0)."""
@@ -478,7 +484,7 @@ class MeshSolid(Solid):
         if not np.isfinite(f) or f <= 0:
             raise InvalidInputError(f"`factor` must be a finite number > 0, got {factor!r}")
         pieces = None if self.pieces is None else tuple(p * f for p in self.pieces)
-        return MeshSolid(self.vertices * f, self.faces, pieces)
+        return MeshSolid(self.vertices * f, self.faces, pieces, self.repair)
 
     def to_trimesh(self) -> Any:
         """A ``trimesh.Trimesh`` of the surface (same vertices and faces, not processed)."""

@@ -84,10 +84,15 @@ def test_library_objects_are_read_from_pybullet_data() -> None:
         ("random/1000", "random/000 ... random/999"),
         ("nothing", "unknown pybullet object"),
         ("../../etc/passwd", "unknown pybullet object"),
-        ("teddy", "teddy2_VHACD_CHs.obj is not"),
     ]:
         with pytest.raises(InvalidInputError, match=words):
             load_library_object(name)
+    # refused before the repairs (issue 37): the teddy's 15 overlapping hulls fuse into one
+    # closed body; the mug's handle is an open tube whose two ends are filled, then fused
+    teddy, mug = load_library_object("teddy"), load_library_object("mug")
+    assert teddy.repair["fused_bodies"] == 15 and abs(teddy.repair["volume_change"]) < 1e-3
+    assert mug.repair["filled_holes"] == 2 and mug.repair["fused_bodies"] == 2
+    assert 2e-4 < mug.volume < 2.5e-4  # m^3
 
 
 def test_library_objects_collide_as_their_own_convex_hulls() -> None:

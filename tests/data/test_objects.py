@@ -111,8 +111,8 @@ def test_bad_mesh_files_name_the_problem(tmp_path: Path) -> None:
     cases = {
         "empty.stl": "empty|cannot read",
         "junk.obj": "empty|cannot read",
-        "open.stl": "not watertight",
-        "two.stl": "2 separate bodies",
+        "open.stl": "not a closed surface: 1 holes, the largest 30 mm across",
+        "two.stl": "2 bodies in 2 pieces, the nearest 30 mm apart",
         "part.step": "unknown object file format '.step'",
         "missing.stl": "not found",
     }

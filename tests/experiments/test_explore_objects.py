@@ -90,7 +90,7 @@ def _bad_meshes(root: Path) -> dict[str, Path]:
     ("case", "extra", "message"),
     [
         ("empty", [], "empty|cannot read"),
-        ("open", [], "not watertight"),
+        ("open", [], "not a closed surface"),
         ("format", [], "unknown object file format '.3mf'"),
         ("big", [], "too large for the hand"),
         ("far", ["--pose", "0.6,0,0"], "too far for the hand"),
