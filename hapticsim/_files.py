@@ -188,6 +188,55 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     return atomic_write(path, lambda fh: fh.write(text), "w")
 
 
+def read_toml(path: Path, where: str, error: type[Exception] = InvalidInputError) -> dict:
+    """A TOML file's table; `error` ``"{where}: not valid TOML (...)"`` or ``"cannot read it
+    (...)"`` otherwise."""
+    import tomllib
+
+    try:
+        return tomllib.loads(Path(path).read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{where}: not valid TOML ({exc})") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or exc
+        raise error(f"{where}: cannot read it ({reason})") from exc
+
+
+def named_toml(
+    value: str | Path, names: tuple[str, ...], directory: Path, argument: str, kind: str,
+    error: type[Exception] = InvalidInputError,
+) -> Path:  # fmt: skip
+    """The TOML file a name or a path gives: a shipped name (``directory/NAME.toml``) or a
+    ``.toml`` path (the hands' and skins' loader).
+
+    Args:
+        value: a name of `names` or a path.
+        names: the shipped names.
+        directory: where the shipped files lie.
+        argument: the argument in messages (``"hand"``).
+        kind: what a file holds, in messages (``"hand description"``).
+        error: the exception to raise (a subclass of :class:`InvalidInputError`).
+
+    Returns:
+        the file's resolved path.
+
+    Raises:
+        `error`: a path that does not exist, or neither a shipped name nor a ``.toml`` path
+        (listing the names, with the nearest).
+    """
+    from hapticsim.errors import ChoiceError
+
+    if isinstance(value, str) and value in names:
+        path = directory / f"{value}.toml"
+    elif isinstance(value, (str, Path)) and Path(value).suffix.lower() == ".toml":
+        path = Path(value).expanduser()
+        if not path.is_file():
+            raise error(f"{kind} {str(path)!r} not found")
+    else:
+        raise error(str(ChoiceError(argument, value, names, f"or a .toml {kind}")))
+    return path.resolve()
+
+
 def write_bytes_atomic(path: str | Path, data: bytes) -> Path:
     """Write bytes through a temporary sibling file and a rename."""
     return atomic_write(path, lambda fh: fh.write(data), "wb")

@@ -25,6 +25,8 @@ MAX_INT: int = 2**62
 #: Most contacts a data set, an exploration or a sweep setting may ask for (arrays are sized by
 #: it: 10^6 contacts are 24 MB per (n, 3) array).
 MAX_CONTACTS: int = 1_000_000
+#: How contacts are sensed: MuJoCo's exact contacts, or estimated from taxel pads (SPEC §11).
+SENSINGS: tuple[str, ...] = ("exact", "tactile")
 #: Contacts an exploration must gather to count as a success (a fit needs 13).
 MIN_CONTACTS: int = 20
 #: Contacts an exploration gathers by default (paper IV).

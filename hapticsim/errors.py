@@ -16,6 +16,37 @@ class InvalidInputError(HapticsimError):
     """An argument, file or array does not have the expected type, shape, range or content."""
 
 
+class ChoiceError(InvalidInputError):
+    """A name that is not one of the valid choices; the message builds itself, listing them
+    (and the nearest, when one is close): ``"`sensing` must be one of exact, tactile, got
+    'tacile' (did you mean 'tactile'?)"``.
+
+    Args:
+        argument: the argument's name.
+        value: what came.
+        choices: the valid names.
+        also: more that is accepted, said after the choices (``"or a .toml skin file"``).
+    """
+
+    def __init__(self, argument: str, value: object, choices: object, also: str = "") -> None:
+        import difflib
+
+        names = [str(c) for c in choices]  # type: ignore[attr-defined]
+        close = (
+            difflib.get_close_matches(value, names, n=1, cutoff=0.6)
+            if isinstance(value, str) else []
+        )  # fmt: skip
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        extra = f" {also}" if also else ""
+        super().__init__(
+            f"`{argument}` must be one of {', '.join(names)}{extra}, got {value!r}{hint}"
+        )
+        self.argument, self.value, self.choices = argument, value, tuple(names)
+
+    def __reduce__(self) -> tuple[type, tuple[str]]:
+        return (InvalidInputError, (str(self),))
+
+
 class SimulationError(HapticsimError):
     """The physics simulation cannot do what was asked (unreachable object, instability)."""
 

@@ -3,7 +3,8 @@
 A free fingertip sphere (radius 8 mm) carrying the default pad (21 x 21 taxels, 1.5 mm) is put
 (kinematically, ``mj_forward``) against a MuJoCo primitive object at penetrations 0.1-1 mm and
 pad tilts 0-60 deg; MuJoCo's sensor reads the primitive's analytic signed distance, hapticsim's
-model (:func:`hapticsim.tactile.taxel_depths`) the same solid's inside test along each taxel's
+model (:func:`hapticsim.perception.tactile.taxel_depths`) the same solid's inside test along each
+taxel's
 normal. Prints JSON: per primitive, the taxels lit by either, the largest |difference| and the
 largest difference beyond the stated bound ``delta^2 / (4 R)`` (docs/tactile/README.md).
 
@@ -23,8 +24,8 @@ from hapticsim._files import write_json
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
 from hapticsim.geometry.rotations import rotvec_to_matrix
+from hapticsim.perception.tactile import PadLayout, taxel_depths
 from hapticsim.sim.tactile import add_mujoco_pads
-from hapticsim.tactile import PadLayout, taxel_depths
 
 RADIUS = 0.008
 

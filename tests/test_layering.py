@@ -25,26 +25,27 @@ ALLOWED: dict[str, set[str]] = {
     "data": {"geometry"},
     "metrics": {"geometry"},
     "fitting": {"geometry"},
-    "tactile": {"geometry"},
-    "sim": {"geometry", "data", "tactile"},
-    "envs": {"geometry", "data", "metrics", "fitting", "tactile", "sim"},
+    # the vision estimate and the tactile skin: no simulator
+    "perception": {"geometry"},
+    "sim": {"geometry", "data", "perception"},
+    "envs": {"geometry", "data", "metrics", "fitting", "perception", "sim"},
     # one trial: explore (a strategy, or a policy in the environment) -> estimate -> score
-    "exploration": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
-    "experiments": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs"},
+    "exploration": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs"},
+    "experiments": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs"},
     "suites": {
-        "geometry", "data", "metrics", "fitting", "tactile", "sim", "envs", "exploration",
+        "geometry", "data", "metrics", "fitting", "perception", "sim", "envs", "exploration",
         "experiments",
     },
     # reads run directories (plain files): no simulator, no environments
     "viewer": {"geometry", "data", "metrics", "fitting"},
     # benchmarks and report writers: on top, imported by nothing in the library
-    "benchmarks": {"geometry", "data", "metrics", "fitting", "tactile", "sim", "envs",
+    "benchmarks": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs",
                    "exploration"},
 }
 
 
 #: Packages below ``sim`` that must never import the simulator or the environment API.
-CORE = ("geometry", "data", "metrics", "fitting", "tactile")
+CORE = ("geometry", "data", "metrics", "fitting", "perception")
 CORE_FORBIDDEN = {"mujoco", "gymnasium"}
 
 

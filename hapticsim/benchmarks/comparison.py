@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import positive_int
 from hapticsim.data.io import write_text_atomic
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 
 Array = NDArray[np.float64]
 
@@ -258,7 +258,7 @@ def evaluate_policy(
     from hapticsim.data.distributions import OBJECT_KINDS
 
     if objects not in OBJECT_KINDS:
-        raise InvalidInputError(f"`objects` must be one of {OBJECT_KINDS}, got {objects!r}")
+        raise ChoiceError("objects", objects, OBJECT_KINDS)
     seed = positive_int(seed, "seed", minimum=0)
     touches = positive_int(touches, "touches")
     cmp = compare_policies(

@@ -20,10 +20,10 @@ from numpy.typing import NDArray
 
 from hapticsim.exploration import explorer_for
 from hapticsim.geometry import Superquadric
+from hapticsim.perception.vision import vision_estimate
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
 
 Array = NDArray[np.float64]

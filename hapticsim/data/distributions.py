@@ -29,7 +29,7 @@ from hapticsim.data.objects import (
     random_composite,
     random_superquadric,
 )
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
 
@@ -63,7 +63,7 @@ class ObjectDistribution:
 
     def __post_init__(self) -> None:
         if self.kind not in OBJECT_KINDS:
-            raise InvalidInputError(f"`kind` must be one of {OBJECT_KINDS}, got {self.kind!r}")
+            raise ChoiceError("kind", self.kind, OBJECT_KINDS)
         if self.kind == "paper":
 
             bodies = tuple(self.bodies) if self.bodies else tuple(BODY_NAMES)

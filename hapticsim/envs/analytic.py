@@ -17,9 +17,11 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
   a probe there is ``"blocked"``, a stroke stops there;
 - sensor noise follows SPEC §5 (relative ``sigma_N``; the clean values are kept beside);
 - with tactile sensing (``sensing="tactile"``) each contact is pressed by a rigid fingertip of
-  hapticsim's hand (radius 8 mm) carrying a pad of the same grid (:func:`hapticsim.tactile.press.
+  hapticsim's hand (radius 8 mm) carrying a pad of the same grid
+  (:func:`hapticsim.perception.tactile.press.
   press`: sunk by the skin's penetration at the probe force, facing along the approach), read
-  through the skin's sensor model and estimated (:func:`hapticsim.tactile.estimate_contact`);
+  through the skin's sensor model and estimated
+  (:func:`hapticsim.perception.tactile.estimate_contact`);
   the estimates replace the contacts (the ray cast's are kept as ``points_exact``), a contact
   the pad does not feel is dropped, and the images of every pad are in the result.
 
@@ -40,14 +42,14 @@ from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.envs.support import SUPPORTS, Support
 from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.sections import section_walk
 from hapticsim.geometry.solid import Solid
-from hapticsim.tactile import PadLayout, estimate_contact, load_skin
-from hapticsim.tactile.pad import DEFAULT_PAD_GRID
-from hapticsim.tactile.press import press
-from hapticsim.tactile.skin import PROBE_FORCE
+from hapticsim.perception.tactile import PadLayout, estimate_contact, load_skin
+from hapticsim.perception.tactile.pad import DEFAULT_PAD_GRID
+from hapticsim.perception.tactile.press import press
+from hapticsim.perception.tactile.skin import PROBE_FORCE
 
 Array = NDArray[np.float64]
 
@@ -68,7 +70,7 @@ class AnalyticBackend(TouchBackend):
         stroke_speed: fingertip speed along a stroke [m/s].
         sensing: ``"exact"`` (the ray cast's contacts) or ``"tactile"`` (module docstring).
         skin: with tactile sensing, the skin (a preset name, a ``.toml`` file or a
-            :class:`~hapticsim.tactile.SkinPreset`).
+            :class:`~hapticsim.perception.tactile.SkinPreset`).
     """
 
     def __init__(
@@ -85,7 +87,7 @@ class AnalyticBackend(TouchBackend):
         self.noise = finite_float(noise, "noise", 0.0, 1.0)
         self.n_fingers = positive_int(n_fingers, "n_fingers")
         if support not in SUPPORTS:
-            raise InvalidInputError(f"`support` must be one of {SUPPORTS}, got {support!r}")
+            raise ChoiceError("support", support, SUPPORTS)
         self.support_kind = support
         self.stroke_spacing = finite_float(stroke_spacing, "stroke_spacing", 1e-4, 1.0)
         self.touch_seconds = finite_float(touch_seconds, "touch_seconds", 0.0)

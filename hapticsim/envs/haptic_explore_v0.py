@@ -16,7 +16,7 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES
+from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES, SENSINGS
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.data.io import Contacts
 from hapticsim.envs.backends import BACKENDS, make_backend
@@ -24,19 +24,18 @@ from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
 from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchResult, decode_action
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid
 from hapticsim.metrics.coverage import coverage_uncertainty
 from hapticsim.metrics.episode import TruthScorer
-from hapticsim.sim.rough import DepthCamera, RoughObject, vision_estimate
+from hapticsim.perception.vision import DepthCamera, RoughObject, vision_estimate
 
 Array = NDArray[np.float64]
 
 #: Reward definitions.
 REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
 #: How contacts are sensed.
-SENSINGS: tuple[str, ...] = ("exact", "tactile")
 
 
 @dataclass(frozen=True)
@@ -143,7 +142,8 @@ class HapticExploreConfig:
         stroke_spacing: distance between contacts along a stroke [m].
         noise: relative sensor noise sigma_N (SPEC §5).
         position_noise: standard deviation per axis [m] of the camera-to-hand calibration error
-            added to the vision estimate's centre (:func:`hapticsim.sim.rough.vision_estimate`,
+            added to the vision estimate's centre
+            (:func:`hapticsim.perception.vision.vision_estimate`,
             one noisy depth image); the result is the rough position, the origin of the
             object-centred frame.
         obs_scale: length [m] dividing points, semi-axes and centre in the observation.
@@ -157,7 +157,8 @@ class HapticExploreConfig:
             under it, as in the MuJoCo scene, which always has one), ``"table"`` or ``"none"``;
             contacts where a fingertip would hit it are unreachable.
         camera_size: (width, height) [px] of the depth image of the vision estimate made at
-            every reset (:class:`hapticsim.sim.rough.DepthCamera`, otherwise its defaults): half
+            every reset (:class:`hapticsim.perception.vision.DepthCamera`, otherwise its defaults):
+            half
             the resolution of ``hapticsim explore``'s 320 x 240, which halves the cost of a
             reset (about 25 ms of CPU) for a rough centre about 1 mm worse (median 6 mm).
         hand: the MuJoCo backend's hand: ``"hapticsim"`` (default, four fingers), ``"shadow"``
@@ -219,11 +220,11 @@ class HapticExploreConfig:
             )
         object.__setattr__(self, "camera_size", (int(size[0]), int(size[1])))
         if self.backend not in BACKENDS:
-            raise InvalidInputError(f"`backend` must be one of {BACKENDS}, got {self.backend!r}")
+            raise ChoiceError("backend", self.backend, BACKENDS)
         if self.support not in SUPPORTS:
-            raise InvalidInputError(f"`support` must be one of {SUPPORTS}, got {self.support!r}")
+            raise ChoiceError("support", self.support, SUPPORTS)
         if self.reward not in REWARDS:
-            raise InvalidInputError(f"`reward` must be one of {REWARDS}, got {self.reward!r}")
+            raise ChoiceError("reward", self.reward, REWARDS)
         object.__setattr__(self, "objects", ObjectDistribution.coerce(self.objects))
         if not isinstance(self.hand, (str, os.PathLike)) and not hasattr(self.hand, "fingers"):
             raise InvalidInputError(
@@ -257,10 +258,8 @@ class HapticExploreConfig:
         if self.reward == "epsilon" or self.target_epsilon is not None:
             object.__setattr__(self, "compute_metrics", True)
         if self.sensing not in SENSINGS:
-            raise InvalidInputError(
-                f"`sensing` must be one of {', '.join(SENSINGS)}, got {self.sensing!r}"
-            )
-        from hapticsim.tactile import load_skin
+            raise ChoiceError("sensing", self.sensing, SENSINGS)
+        from hapticsim.perception.tactile import load_skin
 
         object.__setattr__(self, "skin", load_skin(self.skin))
 
@@ -462,9 +461,10 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return self._truth
 
     @property
-    def rough(self):  # noqa: ANN201 - hapticsim.sim.rough.RoughObject
+    def rough(self):  # noqa: ANN201 - hapticsim.perception.vision.RoughObject
         """What the planner was given this episode: the vision estimate
-        (:func:`hapticsim.sim.rough.vision_estimate`) moved to the rough position; None before
+        (:func:`hapticsim.perception.vision.vision_estimate`) moved to the rough position; None
+        before
         the first reset."""
         return self._rough
 

@@ -21,7 +21,7 @@ from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig, HapticExploreEnv
 from hapticsim.envs.observation import OBS_BOUND, decode_fit
 from hapticsim.envs.touch import encode_touch
-from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.errors import ChoiceError, HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.rays import raycast_many
 from hapticsim.geometry.sampling import fibonacci_sphere
@@ -292,7 +292,7 @@ class HapticExploreV1Config:
                 f"`base` must be a HapticExploreConfig, got {type(self.base).__name__}"
             )
         if self.reward not in REWARDS_V1:
-            raise InvalidInputError(f"`reward` must be one of {REWARDS_V1}, got {self.reward!r}")
+            raise ChoiceError("reward", self.reward, REWARDS_V1)
         floor = self.epsilon_floor
         if not isinstance(floor, (int, float)) or not np.isfinite(floor) or not 0 < floor < 1:
             raise InvalidInputError(f"`epsilon_floor` must be in (0, 1), got {floor!r}")

@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from hapticsim._files import atomic_write
 from hapticsim.envs.registration import canonical_id
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 
 Array = NDArray[np.float64]
 
@@ -210,7 +210,7 @@ class Actor:
 
     def __post_init__(self) -> None:
         if self.squash not in SQUASHES:
-            raise InvalidInputError(f"`squash` must be one of {SQUASHES}, got {self.squash!r}")
+            raise ChoiceError("squash", self.squash, SQUASHES)
         object.__setattr__(self, "layers", tuple(self.layers))
         object.__setattr__(self, "params", _as_params(self.params))
         object.__setattr__(self, "sets", tuple(self.sets))

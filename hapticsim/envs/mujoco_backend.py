@@ -4,7 +4,7 @@ A thin adapter from a :class:`~hapticsim.envs.touch.Touch` to :mod:`hapticsim.si
 
 - the episode's scene (:func:`~hapticsim.sim.scene.build_scene`: hand, table, object mesh) and an
   :class:`~hapticsim.sim.explorer.Explorer` whose palm planner works on a *rough object*: the
-  environment's vision estimate (:func:`~hapticsim.sim.rough.vision_estimate`: a box or an
+  environment's vision estimate (:func:`~hapticsim.perception.vision.vision_estimate`: a box or an
   ellipsoid fitted to one noisy depth image) at its rough position;
 - the aim of a touch is where the approach ray (from far along ``d`` towards the rough position)
   meets the rough object;
@@ -40,7 +40,7 @@ from hapticsim.errors import HapticsimError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.sections import section_walk, stroke_plane
 from hapticsim.geometry.solid import Solid
-from hapticsim.sim.rough import RoughObject, vision_estimate
+from hapticsim.perception.vision import RoughObject, vision_estimate
 
 Array = NDArray[np.float64]
 
@@ -66,7 +66,7 @@ class MujocoBackend(TouchBackend):
         sensing: ``"exact"`` (MuJoCo's contacts) or ``"tactile"`` (estimated from the hand's
             taxel pads, :mod:`hapticsim.sim.tactile`); None: the scene configuration's.
         skin: with tactile sensing, the skin (a preset name, a ``.toml`` file or a
-            :class:`~hapticsim.tactile.SkinPreset`); None: the scene configuration's.
+            :class:`~hapticsim.perception.tactile.SkinPreset`); None: the scene configuration's.
 
     Raises:
         InvalidInputError: an unknown or invalid hand (the message names the problem).
@@ -116,7 +116,7 @@ class MujocoBackend(TouchBackend):
     def pad_shape(self) -> tuple[int, int, int]:
         """(pads, rows, cols) of the hand's readings with tactile sensing: a pad per finger,
         the hand's grid laid out at the skin's own pitch where it has one."""
-        from hapticsim.tactile import PadLayout
+        from hapticsim.perception.tactile import PadLayout
 
         config = self.scene_config
         if config.sensing != "tactile":
@@ -140,7 +140,7 @@ class MujocoBackend(TouchBackend):
                 when `rough` is None).
             rough: what the palm planner knows (the environment's vision estimate at its rough
                 position); None: a vision estimate of its own
-                (:func:`~hapticsim.sim.rough.vision_estimate`).
+                (:func:`~hapticsim.perception.vision.vision_estimate`).
             prepared: unused (the hand's scene comes from its own cache).
 
         Returns:

@@ -51,7 +51,7 @@ from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed
 from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
 from hapticsim.envs.registration import canonical_id
 from hapticsim.envs.touch import encode_touch
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.fitting.uncertainty import (
     expected_information,
     expected_surface_reduction,
@@ -336,9 +336,7 @@ class InformationPolicy(UncertaintyPolicy):
     ) -> None:  # fmt: skip
         super().__init__(env, rng, **options)
         if criterion not in self.CRITERIA:
-            raise InvalidInputError(
-                f"`criterion` must be one of {self.CRITERIA}, got {criterion!r}"
-            )
+            raise ChoiceError("criterion", criterion, self.CRITERIA)
         self.criterion = criterion
         self._posterior: tuple[Array, float] | None = None
 

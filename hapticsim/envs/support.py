@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import FINGERTIP_RADIUS
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError
 from hapticsim.geometry.solid import Solid
 from hapticsim.sim.object_mesh import support_foot, support_radius
 
@@ -46,7 +46,7 @@ class Support:
 
     def __post_init__(self) -> None:
         if self.kind not in SUPPORTS:
-            raise InvalidInputError(f"`support` must be one of {SUPPORTS}, got {self.kind!r}")
+            raise ChoiceError("support", self.kind, SUPPORTS)
         object.__setattr__(self, "foot", np.asarray(self.foot, dtype=np.float64).reshape(3))
 
     @classmethod

@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_array
 from hapticsim.data.noise import add_noise
 from hapticsim.envs.support import Support
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rays import raycast
 from hapticsim.geometry.solid import Solid
@@ -206,9 +206,7 @@ class TouchResult:
 
     def __post_init__(self) -> None:
         if self.status not in TOUCH_STATUSES:
-            raise InvalidInputError(
-                f"`status` must be one of {TOUCH_STATUSES}, got {self.status!r}"
-            )
+            raise ChoiceError("status", self.status, TOUCH_STATUSES)
         n = np.asarray(self.points).reshape(-1, 3).shape[0]
         for name in ("points", "normals", "points_clean", "normals_clean"):
             arr = np.asarray(getattr(self, name), dtype=np.float64).reshape(-1, 3)
@@ -262,7 +260,8 @@ class TouchBackend:
     ) -> Solid:
         """Start an episode on `shape`; return the ground truth in the backend's world frame.
 
-        `rough` (:class:`hapticsim.sim.rough.RoughObject`) is what the planner knows: the vision
+        `rough` (:class:`hapticsim.perception.vision.RoughObject`) is what the planner knows: the
+        vision
         estimate, centred at the rough position the environment will aim at; a backend that
         plans (the hand) plans on it. `prepared`: what :meth:`preparer` made of `shape`, or
         None (then reset makes it).

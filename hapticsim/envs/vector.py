@@ -43,7 +43,7 @@ from gymnasium.vector.utils import batch_space, concatenate, create_empty_array,
 
 from hapticsim._validate import positive_int
 from hapticsim.envs.haptic_explore_v0 import EpisodeDraw, HapticExploreEnv
-from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.errors import ChoiceError, HapticsimError, InvalidInputError
 from hapticsim.parallel.base import RemoteTraceback, limit_threads
 
 #: Info keys whose value stays the same object for a whole episode: a worker sends them once per
@@ -80,7 +80,7 @@ def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
         if mode.value.lower() == key:
             return mode
     choices = ["next_step", "same_step", "disabled"]
-    raise InvalidInputError(f"`autoreset_mode` must be one of {choices}, got {value!r}")
+    raise ChoiceError("autoreset_mode", value, choices)
 
 
 def _explore_core(env: gym.Env) -> HapticExploreEnv | None:

@@ -16,7 +16,7 @@ from typing import Any
 
 from hapticsim._files import OutputSet, atomic_write
 from hapticsim.data.io import write_json
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.experiments.claims import check_claims
 from hapticsim.experiments.fig4 import Fig4Config, Fig4Result, collect_fig4, write_fig4
 from hapticsim.experiments.fig5 import Fig5Config, collect_fig5, write_fig5
@@ -67,7 +67,7 @@ def reproduce(
         InvalidInputError: unknown `which`, runs < 1, seed < 0, workers < 1, bad grids.
     """
     if which not in WHICH:
-        raise InvalidInputError(f"`which` must be one of {', '.join(WHICH)}, got {which!r}")
+        raise ChoiceError("which", which, WHICH)
     n_workers = resolve_workers(workers) if scheduler is None else None
     fig4_cfg = Fig4Config(runs=runs, seed=seed, budget=budget) if which != "fig5" else None
     fig5_cfg = None

@@ -31,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 
 from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID
-from hapticsim.errors import ExecutionError, InvalidInputError
+from hapticsim.errors import ChoiceError, ExecutionError, InvalidInputError
 
 #: Algorithms :func:`build_config` knows.
 ALGOS: tuple[str, ...] = ("ppo", "sac")
@@ -102,9 +102,9 @@ def build_config(
         the config; ``config.build_algo()`` makes the algorithm.
     """
     if algo not in ALGOS:
-        raise InvalidInputError(f"`algo` must be one of {ALGOS}, got {algo!r}")
+        raise ChoiceError("algo", algo, ALGOS)
     if vectorize not in VECTORIZE:
-        raise InvalidInputError(f"`vectorize` must be one of {VECTORIZE}, got {vectorize!r}")
+        raise ChoiceError("vectorize", vectorize, VECTORIZE)
     try:
         from ray.rllib.algorithms.ppo import PPOConfig
         from ray.rllib.algorithms.sac import SACConfig

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import DEFAULT_LAMBDA
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.parallel import seed_sequence
 
 Array = NDArray[np.float64]
@@ -142,9 +142,9 @@ def make_trial(
     from hapticsim.fitting.methods import METHODS
 
     if body not in BODY_NAMES:
-        raise InvalidInputError(f"`body` must be one of {', '.join(BODY_NAMES)}, got {body!r}")
+        raise ChoiceError("body", body, BODY_NAMES)
     if method not in METHODS:
-        raise InvalidInputError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
+        raise ChoiceError("method", method, METHODS)
     if noise < 0 or not np.isfinite(noise):
         raise InvalidInputError(f"`noise` must be finite and >= 0, got {noise}")
     data_key = (BODY_NAMES.index(body), round(noise * 1e6), int(count), int(run))

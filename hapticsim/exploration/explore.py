@@ -3,7 +3,8 @@
 :func:`explore` runs the hand on an object with a named strategy (headless MuJoCo): a paper
 body, a superquadric JSON file, a random superquadric drawn from the seed, or a mesh file
 (:mod:`hapticsim.data.objects`). The hand plans on a vision estimate
-(:func:`hapticsim.sim.rough.vision_estimate`, one noisy depth image). It adds seeded sensor noise
+(:func:`hapticsim.perception.vision.vision_estimate`, one noisy depth image). It adds seeded sensor
+noise
 at the SPEC §5 level, fits a superquadric (:func:`hapticsim.fitting.fit`), scores it against the
 truth (:func:`hapticsim.metrics.score`; against the mesh for a mesh object) and writes, in the
 output directory:

@@ -21,7 +21,7 @@ import numpy as np
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import DEFAULT_CONTACTS, MAX_CONTACTS, MIN_CONTACTS
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 
 #: A seed a stream is made from: an int or a numpy SeedSequence (``np.random.default_rng``).
 SeedLike = int | np.random.SeedSequence
@@ -139,9 +139,7 @@ class Trial:
         object.__setattr__(self, "object", obj)
         check_explorer(self.explorer)
         if not isinstance(self.estimator, str) or self.estimator not in FIT_METHODS:
-            raise InvalidInputError(
-                f"`method` must be one of {', '.join(FIT_METHODS)}, got {self.estimator!r}"
-            )
+            raise ChoiceError("method", self.estimator, FIT_METHODS)
         object.__setattr__(self, "noise", finite_float(self.noise, "noise", low=0.0))
         object.__setattr__(self, "seed", positive_int(self.seed, "seed", minimum=0))
         count = positive_int(self.count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)

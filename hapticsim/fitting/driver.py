@@ -17,7 +17,7 @@ from hapticsim._validate import (
     positive_int,
 )
 from hapticsim.constants import DEFAULT_LAMBDA, MAX_BUDGET
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.fitting.gpis import fit_gpis
 from hapticsim.fitting.hybrid import HybridOptions, hybrid_search
 from hapticsim.fitting.initial import paper_initial, random_frame_seeds, seed_vectors
@@ -133,7 +133,7 @@ def fit(
         InvalidInputError: any argument out of its domain; the message names it.
     """
     if not isinstance(method, str) or method not in FIT_METHODS:
-        raise InvalidInputError(f"`method` must be one of {', '.join(FIT_METHODS)}, got {method!r}")
+        raise ChoiceError("method", method, FIT_METHODS)
     pts = physical_points(points, "points", min_count=N_PARAMS)
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:
@@ -145,7 +145,7 @@ def fit(
     weight = finite_float(lam, "lam", low=0.0)
     warm = None if initial is None else superquadric_arg(initial, "initial")
     if distance not in DISTANCES:
-        raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
+        raise ChoiceError("distance", distance, DISTANCES)
     ml = method == "nML"
     multi = method == "multi"
     if not ml and (options is not None or sigma is not None or sigma_normal is not None):

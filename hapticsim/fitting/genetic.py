@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.fitting import _ga_compiled as _ga
 from hapticsim.fitting.objective import Objective
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
@@ -105,9 +105,7 @@ class GeneticOptions:
                 f"{self.population})"
             )
         if self.replacement not in REPLACEMENTS:
-            raise InvalidInputError(
-                f"`replacement` must be one of {REPLACEMENTS}, got {self.replacement!r}"
-            )
+            raise ChoiceError("replacement", self.replacement, REPLACEMENTS)
         if not 1 <= self.window <= self.population:
             raise InvalidInputError(f"`window` must lie in [1, population], got {self.window}")
         if self.tournament < 1 or self.stall_generations < 1:

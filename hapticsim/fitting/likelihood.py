@@ -28,7 +28,8 @@ free space count. When it is not given it is estimated from a fit's residuals
 
 Contacts of different reliability (a tactile skin's estimates, each with its own standard
 deviations ``sigma_i`` of the point [m] and ``sigma_n,i`` of the normal [rad],
-:mod:`hapticsim.tactile.estimate`) weigh in by their multipliers (:func:`contact_weights`):
+:mod:`hapticsim.perception.tactile.estimate`) weigh in by their multipliers
+(:func:`contact_weights`):
 ``median(sigma) / sigma_i`` on the distance and ``median(sigma_n) / sigma_n,i`` on the normal
 residuals, each clipped to [1 / :data:`WEIGHT_RANGE`, :data:`WEIGHT_RANGE`], as if contact i's
 noise were that much larger or smaller. The normals' level follows their ratio to the points'

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import DEFAULT_LAMBDA
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.fitting.hybrid import HybridOptions, distinct_starts, hybrid_search
 from hapticsim.fitting.least_squares import (
     MIN_RUN_EVALUATIONS,
@@ -130,7 +130,7 @@ class MLOptions:
                 f"{self.refine_budget}"
             )
         if self.search not in SEARCHES:
-            raise InvalidInputError(f"`search` must be one of {SEARCHES}, got {self.search!r}")
+            raise ChoiceError("search", self.search, SEARCHES)
         if self.candidates < 1 or self.probe_steps < 1 or self.ml_budget < 1:
             raise InvalidInputError(
                 f"`candidates`, `probe_steps` and `ml_budget` must be >= 1, got "

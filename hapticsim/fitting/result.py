@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
 
@@ -78,7 +78,7 @@ class FitResult:
         elif not isinstance(self.solid, Solid):
             raise InvalidInputError(f"`solid` must be a solid, got {type(self.solid).__name__}")
         if self.status not in STATUSES:
-            raise InvalidInputError(f"`status` must be one of {STATUSES}, got {self.status!r}")
+            raise ChoiceError("status", self.status, STATUSES)
         evals, best = (np.asarray(h) for h in self.history)
         if evals.shape != best.shape or evals.ndim != 1:
             raise InvalidInputError(

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import DEFAULT_LAMBDA
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError
 from hapticsim.geometry import eof_compiled as kernel
 from hapticsim.geometry.layout import (
     N_PARAMS,
@@ -39,7 +39,7 @@ DISTANCES: tuple[str, ...] = ("untapered", "tapered")
 def check_distance(distance: str) -> bool:
     """Whether `distance` (one of :data:`DISTANCES`) is ``"tapered"``; else InvalidInputError."""
     if distance not in DISTANCES:
-        raise InvalidInputError(f"`distance` must be one of {DISTANCES}, got {distance!r}")
+        raise ChoiceError("distance", distance, DISTANCES)
     return distance == "tapered"
 
 

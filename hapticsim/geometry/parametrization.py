@@ -12,7 +12,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError
 from hapticsim.geometry.functions import radial_scale, signed_power
 
 Array = NDArray[np.float64]
@@ -76,6 +76,4 @@ def parametrize(
         return natural(eta, omega, a, eps)
     if parametrization == "uniform":
         return uniform(eta, omega, a, eps)
-    raise InvalidInputError(
-        f"`parametrization` must be one of {PARAMETRIZATIONS}, got {parametrization!r}"
-    )
+    raise ChoiceError("parametrization", parametrization, PARAMETRIZATIONS)

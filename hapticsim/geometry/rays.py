@@ -4,7 +4,7 @@ Every solid casts its own rays (:meth:`hapticsim.geometry.solid.Solid.first_hits
 superquadric by the compiled kernel :func:`hapticsim.geometry._rays_compiled.first_hits` (its
 chord through the bounding sphere, a coarse grid refined twice), any other solid by its inside
 test on the same grids, vectorised by numpy. The analytic touch backend casts its approach rays
-with it, the tactile depth model its taxels' rays (:mod:`hapticsim.tactile.depth`).
+with it, the tactile depth model its taxels' rays (:mod:`hapticsim.perception.tactile.depth`).
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim._validate import as_generator, positive_int
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.metrics.chamfer import DEFAULT_CHAMFER_SAMPLES, chamfer_checked
 from hapticsim.metrics.volume import (
@@ -135,9 +135,7 @@ def score(
     estimate = solid_arg(estimate, "estimate")
     truth = solid_arg(truth, "truth")
     if volume_method not in VOLUME_METHODS:
-        raise InvalidInputError(
-            f"`volume_method` must be one of {', '.join(VOLUME_METHODS)}, got {volume_method!r}"
-        )
+        raise ChoiceError("volume_method", volume_method, VOLUME_METHODS)
     n_vol = positive_int(volume_samples, "volume_samples")
     n_cd = positive_int(chamfer_samples, "chamfer_samples")
     seed = seed_text(rng)

@@ -11,7 +11,8 @@ For a contact between a fingertip sphere and the object:
 - The normal force is the first component of ``mj_contactForce`` (contact frame) [N]. A hand
   with a tactile skin (:mod:`hapticsim.sim.tactile`) feels instead the skin's elastic force of
   the fingertip's penetration ``delta = -dist``, ``c_f delta^2`` (``c_f = pi E R_f / h``, the
-  sphere law of :class:`~hapticsim.tactile.SkinModel`): what its controllers press against;
+  sphere law of :class:`~hapticsim.perception.tactile.SkinModel`): what its controllers press
+  against;
   MuJoCo's force is kept as ``force_exact``.
 """
 

@@ -17,8 +17,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_array, finite_float, positive_fields, positive_int
-from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.errors import ChoiceError, InvalidInputError, SimulationError
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.controllers import (
     FingerTask,
     FollowConfig,
@@ -30,7 +31,6 @@ from hapticsim.sim.controllers import (
 from hapticsim.sim.hand import finger_index
 from hapticsim.sim.planning import PalmPlanner, PalmPose
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import Scene, SceneConfig, build_planning_scene
 from hapticsim.sim.simulator import Simulator
 
@@ -106,9 +106,7 @@ class ExplorerConfig:
         positive_int(self.max_misses, "max_misses")
         positive_int(self.patch_misses, "patch_misses")
         if self.transit not in TRANSITS:
-            raise InvalidInputError(
-                f"`transit` must be one of {', '.join(TRANSITS)}, got {self.transit!r}"
-            )
+            raise ChoiceError("transit", self.transit, TRANSITS)
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.constants import FINGERTIP_RADIUS
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.sim.hand_description import (
     POSTURE_NAMES,
     HandDescription,
@@ -378,8 +378,7 @@ def finger_index(finger: int | str, names: tuple[str, ...] | None = None) -> int
     """
     if isinstance(finger, str):
         if names is None or finger not in names:
-            choices = ", ".join(names) if names else "an index"
-            raise InvalidInputError(f"`finger` must be one of {choices}, got {finger!r}")
+            raise ChoiceError("finger", finger, names or ["an index"])
         return names.index(finger)
     if isinstance(finger, (int, np.integer)) and not isinstance(finger, bool):
         if 0 <= int(finger) and (names is None or int(finger) < len(names)):

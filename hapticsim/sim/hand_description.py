@@ -51,7 +51,6 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -60,10 +59,10 @@ from typing import Any
 
 import mujoco
 
-from hapticsim._validate import did_you_mean
-from hapticsim.errors import InvalidInputError
+from hapticsim._files import named_toml, read_toml
+from hapticsim.errors import ChoiceError, InvalidInputError
+from hapticsim.perception.tactile.pad import DEFAULT_PAD_GRID
 from hapticsim.sim.models import models_dir
-from hapticsim.tactile.pad import DEFAULT_PAD_GRID
 
 #: Names of the shipped hand descriptions (``hapticsim/hands/<name>.toml``).
 HAND_NAMES: tuple[str, ...] = ("hapticsim", "shadow", "adroit")
@@ -116,7 +115,7 @@ class PadDescription:
             touching geom).
         normal: (3,) outward direction at the pad's centre in the carrier's frame, or None
             (the fingertip's pulp, :func:`hapticsim.sim.tactile.default_pad_normal`).
-        up: (3,) the rows' direction, or None (:func:`hapticsim.tactile.pad.default_up`).
+        up: (3,) the rows' direction, or None (:func:`hapticsim.perception.tactile.pad.default_up`).
         radius: the radius [m] of the sphere the pad follows, or None (the carrier's own).
         flat: True for a flat plate.
     """
@@ -166,7 +165,7 @@ class FingerDescription:
         for key, values in self.postures:
             if key == name:
                 return values
-        raise InvalidInputError(f"`posture` must be one of {POSTURE_NAMES}, got {name!r}")
+        raise ChoiceError("posture", name, POSTURE_NAMES)
 
 
 @dataclass(frozen=True)
@@ -532,12 +531,7 @@ def check_against_model(hand: HandDescription, where: str) -> None:
 def _load_file(path: str, mtime: float) -> HandDescription:
     file = Path(path)
     where = f"hand description {file.name}"
-    try:
-        data = tomllib.loads(file.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise _err(where, f"not valid TOML ({exc})") from exc
-    except OSError as exc:
-        raise _err(where, f"cannot read it ({exc.strerror})") from exc
+    data = read_toml(file, where, HandDescriptionError)
     if file.parent == HANDS_DIR:
         where = f"hand {file.stem!r}"
     hand = parse_hand(data, file.parent, where)
@@ -560,18 +554,8 @@ def load_hand(hand: str | Path | HandDescription | None = None) -> HandDescripti
         return hand
     if hand is None:
         hand = DEFAULT_HAND
-    if isinstance(hand, str) and hand in HAND_NAMES:
-        path = HANDS_DIR / f"{hand}.toml"
-    elif isinstance(hand, (str, Path)) and Path(hand).suffix.lower() == ".toml":
-        path = Path(hand).expanduser()
-        if not path.is_file():
-            raise HandDescriptionError(f"hand description {str(path)!r} not found")
-    else:
-        raise HandDescriptionError(
-            f"`hand` must be one of {', '.join(HAND_NAMES)} or a .toml hand description, "
-            f"got {hand!r}{did_you_mean(hand, HAND_NAMES)}"
-        )
-    path = path.resolve()
+    path = named_toml(hand, HAND_NAMES, HANDS_DIR, "hand", "hand description",
+                      HandDescriptionError)  # fmt: skip
     return _load_file(str(path), path.stat().st_mtime)
 
 

@@ -15,7 +15,7 @@ import site
 import sys
 from pathlib import Path
 
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 
 #: Environment variable that overrides the models directory.
 MODELS_ENV: str = "HAPTICSIM_MODELS"
@@ -64,7 +64,7 @@ def model_path(name: str) -> Path:
         InvalidInputError: an unknown name (the message lists the files) or missing files.
     """
     if name not in MODEL_FILES:
-        raise InvalidInputError(f"`name` must be one of {', '.join(MODEL_FILES)}, got {name!r}")
+        raise ChoiceError("name", name, MODEL_FILES)
     return models_dir() / name
 
 

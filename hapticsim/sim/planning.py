@@ -61,7 +61,8 @@ class PalmPose:
 class PalmPlanner:
     """Plans palm poses on the kinematics of a *planning scene*.
 
-    The planning scene is built from the rough object (:class:`~hapticsim.sim.rough.RoughObject`),
+    The planning scene is built from the rough object
+    (:class:`~hapticsim.perception.vision.RoughObject`),
     so that plans use only what a controller may know, never the true shape.
 
     Args:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.sim.contacts import FingertipContact
 
 Array = NDArray[np.float64]
@@ -50,7 +50,7 @@ class Recorder:
     def new_pattern(self, kind: str) -> int:
         """Open a new pattern (``"patch"`` or ``"stripe"``) and return its id."""
         if kind not in PATTERN_KINDS:
-            raise InvalidInputError(f"`kind` must be one of {PATTERN_KINDS}, got {kind!r}")
+            raise ChoiceError("kind", kind, PATTERN_KINDS)
         self.pattern_kinds.append(kind)
         return len(self.pattern_kinds) - 1
 

@@ -21,9 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.errors import SimulationError
+from hapticsim.constants import SENSINGS
+from hapticsim.errors import ChoiceError, SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.perception.tactile import SkinPreset, load_skin
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
 from hapticsim.sim.hand import Hand, attach_hand, compile_scene, touching_geom_name
 from hapticsim.sim.hand_description import HandDescription, load_hand
@@ -34,9 +36,8 @@ from hapticsim.sim.object_mesh import (
     support_foot,
     support_radius,
 )
-from hapticsim.sim.tactile import SENSINGS, TAXEL_MODELS, add_mujoco_pads, pad_layouts, prepare_skin
+from hapticsim.sim.tactile import TAXEL_MODELS, add_mujoco_pads, pad_layouts, prepare_skin
 from hapticsim.sim.workspace import Workspace
-from hapticsim.tactile import SkinPreset, load_skin
 
 Array = NDArray[np.float64]
 
@@ -77,7 +78,7 @@ class SceneConfig:
             :mod:`hapticsim.sim.tactile`).
         skin: with tactile sensing, the skin: a preset name (``"ideal"``, ``"vision"``,
             ``"capacitive"``), a ``.toml`` skin file or a
-            :class:`~hapticsim.tactile.SkinPreset` (stored as the loaded preset).
+            :class:`~hapticsim.perception.tactile.SkinPreset` (stored as the loaded preset).
         taxel_model: with tactile sensing, where taxel depths come from:
             ``"hapticsim"`` (its own model against the exact solid) or ``"mujoco"`` (MuJoCo's
             ``<tactile>`` sensor).
@@ -95,14 +96,10 @@ class SceneConfig:
     def __post_init__(self) -> None:
         object.__setattr__(self, "hand", load_hand(self.hand))
         if self.sensing not in SENSINGS:
-            raise SimulationError(
-                f"`sensing` must be one of {', '.join(SENSINGS)}, got {self.sensing!r}"
-            )
+            raise ChoiceError("sensing", self.sensing, SENSINGS)
         object.__setattr__(self, "skin", load_skin(self.skin))
         if self.taxel_model not in TAXEL_MODELS:
-            raise SimulationError(
-                f"`taxel_model` must be one of {', '.join(TAXEL_MODELS)}, got {self.taxel_model!r}"
-            )
+            raise ChoiceError("taxel_model", self.taxel_model, TAXEL_MODELS)
         positive_int(self.mesh_resolution, "mesh_resolution", minimum=16)
         finite_float(self.friction, "friction", 0.0, 1.0)
         if not 0.0 < finite_float(self.timestep, "timestep") <= 0.005:
@@ -417,7 +414,7 @@ def planning_primitive(shape: Solid) -> Any:
     An untapered superquadric with both exponents 1 is an ellipsoid; one with both exponents at
     most :data:`PRIMITIVE_BOX_EPS` is a box of its semi-axes (which contains it: 1.6 mm beyond
     it at the corners of a 3 cm cube with exponents 0.1). Those are the two shapes
-    :func:`~hapticsim.sim.rough.vision_estimate` gives.
+    :func:`~hapticsim.perception.vision.vision_estimate` gives.
     """
     if not isinstance(shape, Superquadric) or np.any(shape.taper != 0.0):
         return None

@@ -18,11 +18,11 @@ from hapticsim._validate import as_generator, positive_int
 from hapticsim.constants import DEFAULT_CONTACTS, MAX_CONTACTS, MIN_CONTACTS
 from hapticsim.errors import SimulationError
 from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.perception.vision import RoughObject, vision_estimate
 from hapticsim.sim.explorer import Explorer, ExplorerConfig
 from hapticsim.sim.free_space import FreeSpaceTrace
 from hapticsim.sim.hand_trace import HandTrace
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import RoughObject, vision_estimate
 from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.strategies import get_strategy
 from hapticsim.sim.video import ExplorationVideo
@@ -137,7 +137,7 @@ def run_exploration(
         progress: called with the number of contacts after every pattern.
         on_pattern_end: called with the explorer after every pattern.
         rough: what the controllers know about the object (default: a vision estimate,
-            :func:`~hapticsim.sim.rough.vision_estimate`, drawn from `rng`).
+            :func:`~hapticsim.perception.vision.vision_estimate`, drawn from `rng`).
         video: takes frames of the run (:class:`~hapticsim.sim.video.ExplorationVideo`); the
             caller calls its ``finish``. Frames change nothing in the simulation.
         hand_trace: keeps the hand's pose at every new contact

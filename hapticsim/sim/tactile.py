@@ -1,7 +1,8 @@
 """The tactile hand of a scene: a taxel pad on every fingertip, the skin's contact softness, and
 the pads' readings at any physics step (SPEC §9, §11).
 
-**Pads.** Every finger carries one pad (:class:`~hapticsim.tactile.pad.PadLayout`) of the hand's
+**Pads.** Every finger carries one pad (:class:`~hapticsim.perception.tactile.pad.PadLayout`) of
+the hand's
 grid (:attr:`~hapticsim.sim.hand_description.HandDescription.pad_grid`, or the skin preset's own
 pitch over the same extent), laid on its fingertip (the finger's ``pad`` table: a sphere or
 capsule geom's surface, a site with a radius, or a flat plate), centred on the fingertip's pulp
@@ -20,7 +21,8 @@ velocity of each taxel in contact, in the pad's own (u, v) axes; MuJoCo's slip c
 the pad's rotation). Depths come from one of :data:`TAXEL_MODELS`:
 
 - ``"hapticsim"`` (default): hapticsim's own taxel model against the object's exact solid
-  (:func:`~hapticsim.tactile.depth.taxel_depths`: the depth along each taxel's normal, from the
+  (:func:`~hapticsim.perception.tactile.depth.taxel_depths`: the depth along each taxel's normal,
+  from the
   superquadric's inside-outside function or the mesh's containment), computed when read, so a
   physics step costs nothing more;
 - ``"mujoco"``: MuJoCo's ``<tactile>`` sensor on a non-colliding, massless mesh geom of the
@@ -39,25 +41,25 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.constants import SENSINGS
 from hapticsim.errors import InvalidInputError
-from hapticsim.sim.hand import PREFIX
-from hapticsim.sim.hand_description import HandDescription
-from hapticsim.tactile import (
+from hapticsim.perception.tactile import (
     PadLayout,
     SkinPreset,
     TactileContact,
     estimate_contact,
     taxel_depths,
 )
-from hapticsim.tactile.pad import PadError, default_up
-from hapticsim.tactile.skin import PROBE_FORCE
+from hapticsim.perception.tactile.pad import PadError, default_up
+from hapticsim.perception.tactile.skin import PROBE_FORCE
+from hapticsim.sim.hand import PREFIX
+from hapticsim.sim.hand_description import HandDescription
 
 Array = NDArray[np.float64]
 
 #: Where taxel depths come from (module docstring).
 TAXEL_MODELS: tuple[str, ...] = ("hapticsim", "mujoco")
 #: Ways of sensing contacts: MuJoCo's exact contact, or estimated from the taxels.
-SENSINGS: tuple[str, ...] = ("exact", "tactile")
 #: Effective mass [kg] of a fingertip against the object, which turns MuJoCo's time constant
 #: into a static stiffness (``20 m / tau^2`` at MuJoCo's default impedance): a 20 g tip
 #: measured 1000 N/m at tau = 0.02 s (``docs/tactile/README.md``).

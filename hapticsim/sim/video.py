@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.render import CONTACT_RGBA, add_markers, make_renderer
 from hapticsim.sim.simulator import Simulator
@@ -70,9 +70,7 @@ class VideoConfig:
 
     def __post_init__(self) -> None:
         if self.format not in VIDEO_FORMATS:
-            raise InvalidInputError(
-                f"`format` must be one of {', '.join(VIDEO_FORMATS)}, got {self.format!r}"
-            )
+            raise ChoiceError("format", self.format, VIDEO_FORMATS)
         positive_int(self.fps, "fps")
         positive_int(self.max_frames, "max_frames")
         if not 0.01 <= finite_float(self.speed, "speed") <= 100.0:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from hapticsim.data.bodies import BODY_NAMES
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 
 #: Marks a parameter without default.
 REQUIRED: Any = object()
@@ -34,7 +34,7 @@ def _choice(choices: Callable[[], Sequence[str]]) -> Callable[[Any, str], str]:
     def check(value: Any, name: str) -> str:
         valid = tuple(choices())
         if not isinstance(value, str) or value not in valid:
-            raise InvalidInputError(f"`{name}` must be one of {', '.join(valid)}, got {value!r}")
+            raise ChoiceError(name, value, valid)
         return value
 
     return check
@@ -264,5 +264,5 @@ def get_kind(name: Any) -> Kind:
         InvalidInputError: an unknown kind (the message lists the kinds).
     """
     if not isinstance(name, str) or name not in KINDS:
-        raise InvalidInputError(f"`kind` must be one of {', '.join(KINDS)}, got {name!r}")
+        raise ChoiceError("kind", name, KINDS)
     return KINDS[name]

@@ -12,7 +12,7 @@ from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.mujoco_backend import MujocoBackend
 from hapticsim.envs.touch import Touch, encode_touch
 from hapticsim.errors import InvalidInputError
-from hapticsim.sim.rough import vision_estimate
+from hapticsim.perception.vision import vision_estimate
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
 

@@ -14,7 +14,7 @@ from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import MeshSolid, Superquadric
-from hapticsim.sim.rough import BOX_EPS
+from hapticsim.perception.vision import BOX_EPS
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from hapticsim.geometry import Superquadric
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import build_scene
 
 SPHERE = Superquadric(a=(0.03, 0.03, 0.03), eps=(1.0, 1.0), center=(0.0, 0.0, 0.05))

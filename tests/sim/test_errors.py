@@ -13,7 +13,7 @@ import pytest
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.exploration import explore
 from hapticsim.geometry import Superquadric
-from hapticsim.sim.rough import RoughObject
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.scene import build_scene
 from hapticsim.sim.session import run_exploration
 from hapticsim.sim.simulator import Simulator

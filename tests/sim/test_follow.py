@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from hapticsim.geometry import Superquadric
+from hapticsim.perception.vision import vision_estimate
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import vision_estimate
 from hapticsim.sim.scene import build_scene
 from hapticsim.sim.strategies.sweep import plan_sweep, run_sweep
 

@@ -15,6 +15,7 @@ import pytest
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.metrics.accuracy import contact_accuracy
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.hand_description import (
@@ -23,7 +24,6 @@ from hapticsim.sim.hand_description import (
     load_hand,
 )
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import SceneConfig, build_scene
 
 SPHERE = Superquadric(a=(0.03, 0.03, 0.03), eps=(1.0, 1.0), center=(0.0, 0.0, 0.05))

@@ -10,10 +10,10 @@ from hapticsim.data.example_meshes import l_block, truncated_pyramid
 from hapticsim.errors import SimulationError
 from hapticsim.geometry import mesh_solid
 from hapticsim.geometry.mesh_solid import MeshSolid
+from hapticsim.perception.vision import vision_estimate
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import vision_estimate
 from hapticsim.sim.scene import build_scene
 from hapticsim.sim.workspace import Workspace
 

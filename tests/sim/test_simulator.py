@@ -7,11 +7,11 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.contacts import fingertip_contacts
 from hapticsim.sim.controllers import Probe
 from hapticsim.sim.explorer import Explorer
 from hapticsim.sim.recorder import Recorder
-from hapticsim.sim.rough import RoughObject
 from hapticsim.sim.scene import build_scene
 from hapticsim.sim.simulator import ServoConfig
 

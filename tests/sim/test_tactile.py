@@ -18,11 +18,11 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rotations import rotvec_to_matrix
 from hapticsim.metrics.accuracy import contact_accuracy
+from hapticsim.perception.tactile import PadLayout, taxel_depths
 from hapticsim.sim.hand_description import HandDescriptionError, load_hand
 from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.session import run_exploration
 from hapticsim.sim.tactile import add_mujoco_pads, pad_layouts
-from hapticsim.tactile import PadLayout, taxel_depths
 from tests.sim.test_hands import SPHERE, TWO_FINGERS, _gymnasium_robotics
 
 RADIUS = 0.008

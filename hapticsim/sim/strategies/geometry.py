@@ -1,6 +1,7 @@
 """Exploration patterns planned on the rough object: patches in (eta, omega), edge contours.
 
-All functions work on a :class:`~hapticsim.sim.rough.RoughObject` only (what a controller may
+All functions work on a :class:`~hapticsim.perception.vision.RoughObject` only (what a controller
+may
 know); their points are *expected* surface points, the contacts come from the simulation.
 """
 
@@ -11,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from hapticsim.perception.vision import RoughObject
 from hapticsim.sim.controllers import Probe
-from hapticsim.sim.rough import RoughObject
 
 Array = NDArray[np.float64]
 

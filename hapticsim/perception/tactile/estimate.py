@@ -1,9 +1,10 @@
 """Contact estimation from one pad's reading: location, normal, area, force and uncertainty.
 
 The reading ``y`` [Pa] (after the sensor model) is turned back into depths ``d = y h / E`` (the
-skin's inverse, :class:`~hapticsim.tactile.skin.SkinModel`). A taxel at ``p`` with outward normal
+skin's inverse, :class:`~hapticsim.perception.tactile.skin.SkinModel`). A taxel at ``p`` with
+outward normal
 ``m`` and depth ``d`` stands for the object surface point ``q = p - d m`` (the depth model,
-:mod:`hapticsim.tactile.depth`).
+:mod:`hapticsim.perception.tactile.depth`).
 
 **Curved pad** (a sphere, all shipped hands): where a rigid sphere sinks into a smooth object,
 the deepest point of the undeformed skin lies on the contact normal, the line from the
@@ -55,8 +56,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.tactile.pad import PadLayout
-from hapticsim.tactile.skin import SensorModel, SkinModel
+from hapticsim.perception.tactile.pad import PadLayout
+from hapticsim.perception.tactile.skin import SensorModel, SkinModel
 
 Array = NDArray[np.float64]
 

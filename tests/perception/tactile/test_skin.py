@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.tactile import SKIN_NAMES, SensorModel, SkinError, SkinModel, load_skin
-from hapticsim.tactile.skin import gaussian_blur
+from hapticsim.perception.tactile import SKIN_NAMES, SensorModel, SkinError, SkinModel, load_skin
+from hapticsim.perception.tactile.skin import gaussian_blur
 
 
 def test_pressure_and_depth_are_inverse_and_winkler() -> None:

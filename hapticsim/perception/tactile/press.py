@@ -3,10 +3,11 @@
 Where a ray cast finds a contact at ``x`` with the solid's outward normal ``n`` (the analytic
 touch backend, :mod:`hapticsim.envs.analytic`), a spherical fingertip of radius R carrying the
 pad is put with its core at ``x + (R - delta) n``, sunk by the skin's penetration ``delta`` at
-:data:`~hapticsim.tactile.skin.PROBE_FORCE` (``SkinModel.sphere_penetration``), the pad facing
+:data:`~hapticsim.perception.tactile.skin.PROBE_FORCE` (``SkinModel.sphere_penetration``), the pad
+facing
 the object along the approach direction ``d`` (its centre normal is ``-d``): the fingertip
 frame has z along ``d``, its x axis horizontal. The pad's taxels read their depths against the
-solid (:func:`~hapticsim.tactile.depth.taxel_depths`), as the MuJoCo hand's do.
+solid (:func:`~hapticsim.perception.tactile.depth.taxel_depths`), as the MuJoCo hand's do.
 
 numpy only.
 """
@@ -18,8 +19,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.tactile.depth import taxel_depths
-from hapticsim.tactile.pad import PadLayout
+from hapticsim.perception.tactile.depth import taxel_depths
+from hapticsim.perception.tactile.pad import PadLayout
 
 Array = NDArray[np.float64]
 
@@ -43,7 +44,7 @@ def press(
     """The depths a curved pad reads when its fingertip touches `solid` at `point`.
 
     Args:
-        solid: the object (anything :func:`~hapticsim.tactile.depth.taxel_depths` takes).
+        solid: the object (anything :func:`~hapticsim.perception.tactile.depth.taxel_depths` takes).
         point: (3,) float, the contact on the surface [m, world].
         normal: (3,) float, the solid's outward unit normal there.
         approach: (3,) float, the direction the finger came from (from the object outward).

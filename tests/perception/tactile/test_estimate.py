@@ -7,7 +7,13 @@ import pytest
 
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.rotations import rotvec_to_matrix
-from hapticsim.tactile import PadLayout, SensorModel, SkinModel, estimate_contact, taxel_depths
+from hapticsim.perception.tactile import (
+    PadLayout,
+    SensorModel,
+    SkinModel,
+    estimate_contact,
+    taxel_depths,
+)
 
 RADIUS = 0.008
 PAD = PadLayout(21, 21, 0.0015, RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])

@@ -1,7 +1,8 @@
 """The taxel depth model: how far each taxel of a pad lies inside the object.
 
 The skin at a taxel is compressed along the taxel's own normal (the Winkler foundation of
-:mod:`hapticsim.tactile.skin`), so the depth of a taxel at ``p`` with outward unit normal ``m``
+:mod:`hapticsim.perception.tactile.skin`), so the depth of a taxel at ``p`` with outward unit
+normal ``m``
 is the length of the part of the segment from the fingertip's core ``p - reach m`` to ``p`` that
 lies inside the object:
 

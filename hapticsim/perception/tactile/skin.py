@@ -7,7 +7,8 @@ an independent spring compressed along its own normal, so the pressure under a t
     p = E * d / h,
 
 d the depth [m] by which the undeformed skin surface at the taxel lies inside the object, along
-the taxel's inward normal (:mod:`hapticsim.tactile.depth`). A sphere of radius R pressed by delta
+the taxel's inward normal (:mod:`hapticsim.perception.tactile.depth`). A sphere of radius R pressed
+by delta
 into a flat face then carries ``F = pi E R delta^2 / h`` (:meth:`SkinModel.sphere_force`).
 
 **Sensor** (:class:`SensorModel`): what the taxel electronics make of the pressure image, in

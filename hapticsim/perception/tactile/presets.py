@@ -1,4 +1,4 @@
-"""Named skins (``hapticsim/tactile/skins/*.toml``) and skin files.
+"""Named skins (``hapticsim/perception/tactile/skins/*.toml``) and skin files.
 
 A skin file is a small TOML table; the shipped presets use the same format::
 
@@ -7,7 +7,7 @@ A skin file is a small TOML table; the shipped presets use the same format::
     source = "where the numbers come from"
     pitch = 0.002            # [m], optional: the sensor's own taxel pitch
 
-    [skin]                   # the elastic layer (hapticsim.tactile.skin.SkinModel)
+    [skin]                   # the elastic layer (hapticsim.perception.tactile.skin.SkinModel)
     modulus = 2.0e5          # Young's modulus [Pa]
     thickness = 0.002        # [m]
 
@@ -27,14 +27,13 @@ which of its numbers are assumed.
 
 from __future__ import annotations
 
-import difflib
-import tomllib
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+from hapticsim._files import named_toml, read_toml
 from hapticsim.errors import InvalidInputError
-from hapticsim.tactile.skin import SensorModel, SkinModel, SkinPreset
+from hapticsim.perception.tactile.skin import SensorModel, SkinModel, SkinPreset
 
 #: Names of the shipped presets.
 SKIN_NAMES: tuple[str, ...] = ("ideal", "vision", "capacitive")
@@ -97,12 +96,7 @@ def parse_skin(data: Any, where: str) -> SkinPreset:
 def _load_file(path: str, mtime: float) -> SkinPreset:
     file = Path(path)
     where = f"skin file {file.name}"
-    try:
-        data = tomllib.loads(file.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise SkinError(f"{where}: not valid TOML ({exc})") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SkinError(f"{where}: cannot read it ({exc})") from exc
+    data = read_toml(file, where, SkinError)
     if file.parent == SKINS_DIR:
         where = f"skin {file.stem!r}"
     return parse_skin(data, where)
@@ -122,20 +116,7 @@ def load_skin(skin: str | Path | SkinPreset | None = None) -> SkinPreset:
         return skin
     if skin is None:
         skin = DEFAULT_SKIN
-    if isinstance(skin, str) and skin in SKIN_NAMES:
-        path = SKINS_DIR / f"{skin}.toml"
-    elif isinstance(skin, (str, Path)) and Path(skin).suffix.lower() == ".toml":
-        path = Path(skin).expanduser()
-        if not path.is_file():
-            raise SkinError(f"skin file {str(path)!r} not found")
-    else:
-        close = difflib.get_close_matches(str(skin).lower(), SKIN_NAMES, n=1, cutoff=0.6)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise SkinError(
-            f"`skin` must be one of {', '.join(SKIN_NAMES)} or a .toml skin file, got "
-            f"{skin!r}{hint}"
-        )
-    path = path.resolve()
+    path = named_toml(skin, SKIN_NAMES, SKINS_DIR, "skin", "skin file", SkinError)
     return _load_file(str(path), path.stat().st_mtime)
 
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.tactile import PadLayout
-from hapticsim.tactile.pad import MAX_PAD_ANGLE
+from hapticsim.perception.tactile import PadLayout
+from hapticsim.perception.tactile.pad import MAX_PAD_ANGLE
 
 
 def _sphere_pad(rows: int = 21, cols: int = 21, pitch: float = 0.0015, radius: float = 0.008):

@@ -9,7 +9,13 @@ from hapticsim.data.bodies import BODIES, get_body
 from hapticsim.data.example_meshes import l_block, truncated_pyramid
 from hapticsim.errors import InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric
-from hapticsim.sim.rough import BOX_EPS, DepthCamera, RoughObject, depth_cloud, vision_estimate
+from hapticsim.perception.vision import (
+    BOX_EPS,
+    DepthCamera,
+    RoughObject,
+    depth_cloud,
+    vision_estimate,
+)
 
 
 def test_the_cloud_shows_only_the_side_facing_the_camera() -> None:

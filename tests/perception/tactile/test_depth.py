@@ -6,7 +6,7 @@ import numpy as np
 
 from hapticsim.data.example_meshes import example_mesh
 from hapticsim.geometry import Superquadric
-from hapticsim.tactile import PadLayout, taxel_depths
+from hapticsim.perception.tactile import PadLayout, taxel_depths
 
 RADIUS = 0.008
 PAD = PadLayout(21, 21, 0.0015, RADIUS, [0, 0, -1], [0, 1, 0], [0, 0, 0])
