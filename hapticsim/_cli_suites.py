@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from hapticsim._cli_common import _Parser, _positive_int, _print_json, _seed
-from hapticsim.benchmarks.comparison import evaluate_policy
+from hapticsim.envs.evaluation import evaluate_policy
 from hapticsim.errors import InvalidInputError
 
 

@@ -23,6 +23,12 @@ the training's 1,000,000.. or the validation's 10,000..). Writes ``policy.npz``,
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import os
@@ -34,7 +40,7 @@ import numpy as np
 
 from hapticsim.envs.haptic_explore_v1 import encode_action_v1
 from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_TOUCH_ID
-from hapticsim.experiments.rllib import DEFAULT_ENV_CONFIG
+from lab.training.rllib import DEFAULT_ENV_CONFIG
 
 #: Environment settings of ``learned-touch``'s training (scripts/train_policy.py defaults).
 SETTINGS = {k: DEFAULT_ENV_CONFIG[k] for k in ("backend", "objects", "touch_budget", "noise")}
@@ -106,8 +112,8 @@ def main() -> None:
     import gymnasium as gym
 
     from hapticsim.envs.haptic_explore_touch import SETS
-    from hapticsim.envs.learned import actor_from_sb3, recorded_settings
-    from hapticsim.experiments.sb3 import TouchSetExtractor
+    from lab.training.export import actor_from_sb3, recorded_settings
+    from lab.training.sb3 import TouchSetExtractor
 
     args.out.mkdir(parents=True, exist_ok=True)
     x, y, data = collect(args.episodes, args.seed, args.observation)

@@ -17,9 +17,9 @@ listing it in ``SECTIONS``):
 - ``env``: steps per second of ``hapticsim/HapticExplore-v0`` with random touches, per backend,
   one process (resets counted and not), and ``make_vec(..., num_envs=8)`` (hapticsim's vector
   environment, one worker per core) and Gymnasium's ``AsyncVectorEnv`` of 8 against one process,
-  in turn in the same run (:func:`hapticsim.benchmarks.env.benchmark_vector_env`).
+  in turn in the same run (:func:`lab.benchmarks.env.benchmark_vector_env`).
 - ``sim``: physics steps per second of the hand + object scene and a 150-contact ``paper``
-  exploration per body (:func:`hapticsim.benchmarks.sim.benchmark_sim`).
+  exploration per body (:func:`lab.benchmarks.sim.benchmark_sim`).
 - ``multi``: the median wall and CPU seconds of a ``method="multi"`` fit of 300 contacts against
   nH's on the same contacts: area samples of the L-block and of 10 random composites (seeds
   200-209), and the paper's patterns on the four bodies (one part), with the parts it chose.
@@ -32,6 +32,12 @@ medians are quoted, and CPU seconds (which other processes change less) beside w
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
 
 import argparse
 import json
@@ -258,7 +264,7 @@ def section_score(args: argparse.Namespace) -> dict[str, Any]:
 
 def section_env(args: argparse.Namespace) -> dict[str, Any]:
     """Steps per second of hapticsim/HapticExplore-v0 (random touches), one and two processes."""
-    from hapticsim.benchmarks.env import benchmark_env, benchmark_vector_env
+    from lab.benchmarks.env import benchmark_env, benchmark_vector_env
 
     out: dict[str, Any] = {}
     for backend in args.backends:
@@ -273,7 +279,7 @@ def section_env(args: argparse.Namespace) -> dict[str, Any]:
 
 def section_sim(args: argparse.Namespace) -> dict[str, Any]:
     """MuJoCo hand: physics steps per second and a 150-contact paper exploration per body."""
-    from hapticsim.benchmarks.sim import benchmark_sim
+    from lab.benchmarks.sim import benchmark_sim
 
     return benchmark_sim(count=150) | {"load": _load()}
 
@@ -281,8 +287,8 @@ def section_sim(args: argparse.Namespace) -> dict[str, Any]:
 def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
     """Exact against tactile sensing, same run: environment steps per second per backend and
     explore's time per body (medians over the four bodies)."""
-    from hapticsim.benchmarks.env import benchmark_env
     from hapticsim.exploration import explore
+    from lab.benchmarks.env import benchmark_env
 
     out: dict[str, Any] = {}
     for backend in args.backends:

@@ -9,15 +9,21 @@ come from ``python scripts/bench.py --section env``.
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import os
 import sys
 from pathlib import Path
 
-from hapticsim.benchmarks.env import benchmark_env
 from hapticsim.data.io import write_text_atomic
 from hapticsim.envs.backends import BACKENDS
+from lab.benchmarks.env import benchmark_env
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -9,13 +9,19 @@ Wall times depend on the machine's load; the CPU time of the process is reported
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import os
 import sys
 
-from hapticsim.benchmarks.sim import benchmark_sim
 from hapticsim.data.bodies import BODY_NAMES
+from lab.benchmarks.sim import benchmark_sim
 
 
 def main(argv: list[str] | None = None) -> int:

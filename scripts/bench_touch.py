@@ -10,11 +10,17 @@ beside the timings (the machine is shared).
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import sys
 
-from hapticsim.benchmarks.env import benchmark_touch
+from lab.benchmarks.env import benchmark_touch
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,7 +4,7 @@ Per backend: one environment; hapticsim's vector environment with one worker per
 (``native``), without drawing episodes ahead and batch scheduling (``native_plain``) and with
 more workers than cores (``native:W``); Gymnasium's ``AsyncVectorEnv``;
 the N environments stepped by a thread pool in one process (``threads``); two free-running
-processes; and the shard estimate (:func:`hapticsim.benchmarks.env.shard_estimate`). The
+processes; and the shard estimate (:func:`lab.benchmarks.env.shard_estimate`). The
 numbers of ``docs/vector.md``::
 
     python scripts/bench_vector.py > docs/vector/bench.json      # ~10 min on 2 cores
@@ -12,12 +12,18 @@ numbers of ``docs/vector.md``::
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import os
 import sys
 
-from hapticsim.benchmarks.env import benchmark_vector_env
+from lab.benchmarks.env import benchmark_vector_env
 
 
 def main() -> None:

@@ -13,15 +13,22 @@ the worker count.
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import sys
 import time
 from pathlib import Path
 
-from hapticsim.benchmarks.comparison import compare_policies, write_comparison
 from hapticsim.data.distributions import OBJECT_KINDS
 from hapticsim.envs.backends import BACKENDS
+from hapticsim.envs.evaluation import compare_policies
 from hapticsim.envs.policies import POLICY_NAMES
+from lab.benchmarks.comparison import write_comparison
 
 
 def main(argv: list[str] | None = None) -> int:

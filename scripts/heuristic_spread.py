@@ -13,6 +13,12 @@ the angle between the two approaches.
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import copy
 import json
@@ -25,7 +31,7 @@ from hapticsim.envs.haptic_explore_v1 import encode_action_v1
 from hapticsim.envs.policies import make_policy
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 from hapticsim.envs.touch import decode_action
-from hapticsim.experiments.rllib import DEFAULT_ENV_CONFIG
+from lab.training.rllib import DEFAULT_ENV_CONFIG
 
 #: The environment of ``scripts/bc_heuristic.py`` (``learned-touch``'s training settings).
 SETTINGS = {k: DEFAULT_ENV_CONFIG[k] for k in ("backend", "objects", "touch_budget", "noise")}

@@ -2,7 +2,7 @@
 
 Reads the JSON that ``hapticsim policies evaluate`` printed for several policies on the same
 backend, objects, seed, episodes and touches (so the episodes pair), writes with
-:func:`hapticsim.benchmarks.comparison.write_comparison` a folder with ``README.md`` (mean ± std
+:func:`lab.benchmarks.comparison.write_comparison` a folder with ``README.md`` (mean ± std
 (median) after N touches; paired Wilcoxon tests of every policy against random, learned ones
 against uncertainty and the shipped ``learned`` too), ``epsilon.csv``, ``epsilon.png`` and
 ``raw.json``, and prints as JSON the figures after the last touch and the bar of issue 10
@@ -13,6 +13,12 @@ against uncertainty and the shipped ``learned`` too), ``epsilon.csv``, ``epsilon
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
 
 import argparse
 import json
@@ -66,8 +72,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--learned", default="learned", help="name of the learned policy")
     args = parser.parse_args(argv)
 
-    from hapticsim.benchmarks.comparison import Comparison, write_comparison
+    from hapticsim.envs.evaluation import Comparison
     from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
+    from lab.benchmarks.comparison import write_comparison
 
     results = read_results(args.results)
     first = results[0]

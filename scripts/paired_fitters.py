@@ -112,7 +112,7 @@ class ShiftedSeeds:
 
 def run(args: argparse.Namespace, other: Path | str | None) -> Any:
     import hapticsim.fitting
-    from hapticsim.benchmarks.comparison import compare_policies
+    from hapticsim.envs.evaluation import compare_policies
 
     if other == "control":
         hapticsim.fitting.fit = ShiftedSeeds(hapticsim.fitting.fit, 1_000_003)

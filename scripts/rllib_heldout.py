@@ -14,6 +14,12 @@ same objects. Needs the ``ray`` extra::
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import sys
@@ -25,7 +31,7 @@ from scipy.stats import wilcoxon
 
 from hapticsim.envs.haptic_explore_v1 import OBS_DIM
 from hapticsim.envs.learned import load_actor
-from hapticsim.experiments.rllib import deterministic_policy, final_epsilons
+from lab.training.rllib import deterministic_policy, final_epsilons
 
 #: First environment seed of the held-out objects (validation uses 10,000 + i).
 HELD_OUT_SEED = 20_000

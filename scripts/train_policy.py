@@ -4,7 +4,7 @@
 Off-policy (SAC, TQC, CrossQ) or on-policy (PPO) learners from stable-baselines3 / sb3-contrib on
 the compact observation of ``HapticExploreCompact-v0`` (``--env compact``, default) or on the
 touch history of ``HapticExploreTouch-v0`` (``--env touch``: contacts, normals and past touches
-as sets, encoded by :class:`hapticsim.experiments.sb3.TouchSetExtractor`) or on the same felt
+as sets, encoded by :class:`lab.training.sb3.TouchSetExtractor`) or on the same felt
 through taxel pads, each touch's pad image in its element (``--env touch-tactile``:
 ``HapticExploreTouchTactile-v0``, analytic pads, ``ideal`` skin), analytic backend,
 ``--n-envs`` environments in subprocesses (``--vector subproc``) or in hapticsim's native vector
@@ -35,6 +35,12 @@ The shipped ``learned-touch`` actor (docs/policies/learned_touch/)::
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
 
 import argparse
 import json
@@ -162,7 +168,7 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
     extractor: dict[str, Any] = {}
     if args.env != "compact":
         from hapticsim.envs.haptic_explore_touch import SETS, TACTILE_SETS
-        from hapticsim.experiments.sb3 import TouchSetExtractor
+        from lab.training.sb3 import TouchSetExtractor
 
         sets = TACTILE_SETS if args.env == "touch-tactile" else SETS
         extractor = {"features_extractor_class": TouchSetExtractor,
@@ -232,7 +238,7 @@ def make_vec_env(args: argparse.Namespace, start_step: int) -> Any:
 
     seed = TRAIN_SEED + 10_000 * args.seed + start_step
     if args.vector == "native":
-        from hapticsim.experiments.sb3 import NativeVecEnv
+        from lab.training.sb3 import NativeVecEnv
 
         vec = NativeVecEnv(env_id(args), args.n_envs, **env_kwargs(args))
         vec.seed(seed)
@@ -309,7 +315,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import gymnasium as gym
 
-    from hapticsim.envs.learned import actor_from_sb3, recorded_settings
+    from lab.training.export import actor_from_sb3, recorded_settings
 
     torch.set_num_threads(args.torch_threads)  # 1: the environments use the other cores
     run = Run(args.out)

@@ -16,12 +16,18 @@ epsilon below random's) and ``best/`` (the RLlib module of the best validation p
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import sys
 
 from hapticsim.errors import HapticsimError
-from hapticsim.experiments.rllib import ALGOS, PPO_LR, VECTORIZE, build_config, train
+from lab.training.rllib import ALGOS, PPO_LR, VECTORIZE, build_config, train
 
 
 def main() -> None:

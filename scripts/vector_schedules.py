@@ -1,15 +1,21 @@
 """Would sharing fits between the workers lift the native vector environment? JSON on stdout.
 
-Measures where each step's time goes for N environments (:func:`hapticsim.benchmarks.env.
+Measures where each step's time goes for N environments (:func:`lab.benchmarks.env.
 step_components`) and estimates, from those times, how busy 2 cores would be under the native
 vector environment's static shards, under sharing the fits between the shards, and under an
-ideal scheduler of whole steps (:func:`hapticsim.benchmarks.env.schedule_estimates`). The
+ideal scheduler of whole steps (:func:`lab.benchmarks.env.schedule_estimates`). The
 numbers of ``docs/vector.md``'s "Sharing fits between the workers"::
 
     python scripts/vector_schedules.py > docs/vector/schedules.json      # ~2 min on 2 cores
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
 
 import argparse
 import json
@@ -18,7 +24,7 @@ import sys
 
 import numpy as np
 
-from hapticsim.benchmarks.env import schedule_estimates, step_components
+from lab.benchmarks.env import schedule_estimates, step_components
 
 
 def main() -> None:

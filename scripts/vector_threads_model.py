@@ -4,7 +4,7 @@ The native vector environment's shards reach ~1.6x one environment on 2 cores, a
 bar is 1.8x (analytic, N = 8). Threads stepping whole environments would balance best, but today
 about half of an analytic step holds the GIL (Python: the section walk, the fitter's driver,
 metrics, observation). This script asks what a port would have to reach: it replays measured
-vector steps of 8 analytic environments (:func:`hapticsim.benchmarks.env.step_components`) as
+vector steps of 8 analytic environments (:func:`lab.benchmarks.env.step_components`) as
 synthetic steps of the same durations, a fraction ``g`` of each spent holding the GIL (small
 numpy calls) and the rest in a compiled loop that releases it (numba, ``nogil``), in six
 alternating pieces per step. Each vector step is handed to a pool of 2 threads, either in the
@@ -19,6 +19,12 @@ real port would add its own overhead (the vector environment's batching, cold ca
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the checkout on the path: the lab (lab/) sits beside the library and is not installed
+_sys.path.insert(0, str(_Path(__file__).resolve().parents[1]))
+
 import argparse
 import json
 import os
@@ -29,7 +35,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 
-from hapticsim.benchmarks.env import step_components
+from lab.benchmarks.env import step_components
 
 #: Pieces each synthetic step alternates between holding and releasing the GIL.
 PIECES = 6

@@ -38,9 +38,6 @@ ALLOWED: dict[str, set[str]] = {
     },
     # reads run directories (plain files): no simulator, no environments
     "viewer": {"geometry", "data", "metrics", "fitting"},
-    # benchmarks and report writers: on top, imported by nothing in the library
-    "benchmarks": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs",
-                   "exploration"},
 }
 
 
@@ -117,3 +114,16 @@ def test_no_package_imports_the_package_root(package: str) -> None:
     for path in sorted((PACKAGE / package).rglob("*.py")):
         assert "hapticsim" not in _imports(path), f"{path.relative_to(REPO)} imports hapticsim"
 
+
+
+#: What the installed package never imports: the lab beside it, and the training stacks it
+#: serves (they are extras the lab's training glue needs).
+LAB_ONLY = {"lab", "stable_baselines3", "sb3_contrib", "ray", "torch"}
+
+
+def test_the_installed_package_never_imports_the_lab_or_training_stacks() -> None:
+    paths = sorted(PACKAGE.rglob("*.py"))
+    assert paths
+    for path in paths:
+        bad = {n for n in _imports(path) if n.split(".")[0] in LAB_ONLY}
+        assert not bad, f"{path.relative_to(REPO)} imports {sorted(bad)}"

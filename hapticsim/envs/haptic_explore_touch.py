@@ -191,7 +191,7 @@ class HapticExploreTouchEnv(HapticExploreV1Env):
     :class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`; only the observation
     differs: instead of engineered coverage features, the contacts and normals so far and the
     agent's past touches as two sets (:class:`TouchObserver`), for a permutation-invariant
-    encoder (:data:`SETS`; ``hapticsim.experiments.sb3.TouchSetExtractor``).
+    encoder (:data:`SETS`; ``lab.training.sb3.TouchSetExtractor``).
 
     ## Observation space
 

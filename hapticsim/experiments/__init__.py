@@ -9,9 +9,7 @@
   (:mod:`~hapticsim.experiments.report`); the ``hapticsim reproduce`` command.
 - :mod:`~hapticsim.experiments.trial`: one synthesise-fit-score trial;
   the sweeps run on :mod:`hapticsim.parallel` (keyed seeds, local processes or Dask).
-- :mod:`~hapticsim.experiments.rllib`: training exploration policies with Ray RLlib (PPO,
-  SAC) on a Ray cluster (the ``ray`` extra).
-- :mod:`~hapticsim.experiments.sb3`: stable-baselines3 glue (the ``rl`` extra): the
-  permutation-invariant encoder of the touch history, the native vector environment as an SB3
-  ``VecEnv``.
+
+Training glue (stable-baselines3, RLlib) and speed benchmarks sit in the lab beside the library
+(``lab/``), which nothing here imports.
 """

@@ -135,7 +135,7 @@ def test_export_matches_the_models_deterministic_action(algo: str) -> None:
     import gymnasium as gym
     from gymnasium import spaces
 
-    from hapticsim.envs.learned import actor_from_sb3
+    from lab.training.export import actor_from_sb3
 
     class Toy(gym.Env):
         observation_space = spaces.Box(-10, 10, (OBS_DIM,), np.float32)

@@ -89,7 +89,8 @@ def test_summarize_pads_short_episodes() -> None:
 
 
 def test_comparison_runs_writes_and_reads_back(tmp_path) -> None:  # noqa: ANN001
-    from hapticsim.benchmarks.comparison import compare_policies, load_comparison, write_comparison
+    from hapticsim.envs.evaluation import compare_policies
+    from lab.benchmarks.comparison import load_comparison, write_comparison
 
     cmp = compare_policies(
         ["random", "uncertainty"], ["paper"], episodes=2, workers=1, progress=False,

@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from hapticsim.benchmarks.comparison import compare_policies, evaluate_policy
 from hapticsim.cli import main
 from hapticsim.envs.estimator import FitSchedule
+from hapticsim.envs.evaluation import compare_policies, evaluate_policy
 from tests.envs.test_learned import random_actor
 
 FAST_FIT = FitSchedule(full_budget=1500, refine_budget=200, full_every=10)

@@ -365,7 +365,7 @@ def test_each_environment_gives_what_it_gives_alone() -> None:
 
 def test_schedule_estimates_by_hand() -> None:
     """Two shards of two environments; the first shard's two steps each have an 8 s full fit."""
-    from hapticsim.benchmarks.env import schedule_estimates
+    from lab.benchmarks.env import schedule_estimates
 
     parts = {
         "step": np.array([[10.0], [10.0], [2.0], [2.0]]),

@@ -119,8 +119,8 @@ def test_a_server_that_is_not_a_scheduler_is_one_clear_error(impostor: str, mess
 def test_reproduce_and_policy_comparisons_give_the_same_results_on_dask(
     cluster: DaskExecutor,
 ) -> None:
-    from hapticsim.benchmarks.comparison import compare_policies
     from hapticsim.envs.estimator import FitSchedule
+    from hapticsim.envs.evaluation import compare_policies
     from hapticsim.experiments.fig4 import Fig4Config
     from hapticsim.experiments.trial import run_trial
     from hapticsim.parallel import parallel_map

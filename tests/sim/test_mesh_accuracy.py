@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from hapticsim.benchmarks.sim import mesh_contact_accuracy
 from hapticsim.data.bodies import get_body
 from hapticsim.sim.scene import DEFAULT_MESH_RESOLUTION
+from lab.benchmarks.sim import mesh_contact_accuracy
 
 
 def test_face_normals_of_the_default_hull_are_within_a_degree() -> None:

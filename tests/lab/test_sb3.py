@@ -1,4 +1,4 @@
-"""stable-baselines3 glue (hapticsim.experiments.sb3): the touch encoder, its numpy export, and
+"""stable-baselines3 glue (lab.training.sb3): the touch encoder, its numpy export, and
 the native vector environment as an SB3 VecEnv."""
 
 from __future__ import annotations
@@ -13,9 +13,10 @@ from stable_baselines3 import PPO  # noqa: E402
 from stable_baselines3.common.env_util import make_vec_env  # noqa: E402
 
 from hapticsim.envs.haptic_explore_touch import ENV_ID, OBS_DIM  # noqa: E402
-from hapticsim.envs.learned import actor_from_sb3, load_actor  # noqa: E402
+from hapticsim.envs.learned import load_actor  # noqa: E402
 from hapticsim.errors import InvalidInputError  # noqa: E402
-from hapticsim.experiments.sb3 import NativeVecEnv, TouchSetExtractor  # noqa: E402
+from lab.training.export import actor_from_sb3  # noqa: E402
+from lab.training.sb3 import NativeVecEnv, TouchSetExtractor  # noqa: E402
 
 KW = {"backend": "analytic", "objects": "random", "touch_budget": 3, "chamfer_samples": 10,
       "fit": {"full_budget": 600, "refine_budget": 60}}  # fmt: skip

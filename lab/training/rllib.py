@@ -249,8 +249,11 @@ def join_cluster(address: str | None) -> None:
             Config.initialize("")
         except (ImportError, AttributeError):  # pragma: no cover - other Ray versions
             pass
+    # the lab is not installed: ship it to the workers, which unpickle its environment creator
+    lab = str(Path(__file__).resolve().parents[1])
     try:
-        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+        ray.init(address=address, include_dashboard=False, log_to_driver=False,
+                 runtime_env={"py_modules": [lab]})  # fmt: skip
     except ConnectionError as exc:
         raise ExecutionError(
             f"could not join the Ray cluster at {address!r} ({exc}). Check that it runs "

@@ -1,4 +1,4 @@
-"""RLlib training (hapticsim.experiments.rllib): the environment creator, the configs, and a
+"""RLlib training (lab.training.rllib): the environment creator, the configs, and a
 few PPO and SAC iterations with 2 EnvRunners on a local Ray cluster started by ``ray start``."""
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ import pytest
 
 from hapticsim.envs.vector import HapticVectorEnv
 from hapticsim.errors import ExecutionError, InvalidInputError
-from hapticsim.experiments import rllib
-from hapticsim.experiments.rllib import build_config, make_env, train, validate
+from lab.training import rllib
+from lab.training.rllib import build_config, make_env, train, validate
 
 SMALL = {"touch_budget": 3, "chamfer_samples": 10, "fit": {"full_budget": 600, "refine_budget": 60}}
 
