@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hapticsim.envs.haptic_explore_touch import TACTILE_TOUCH_WIDTH, TOUCH_WIDTH
+from hapticsim.envs.haptic_explore_touch_v0 import TACTILE_TOUCH_WIDTH, TOUCH_WIDTH
 from hapticsim.envs.learned import Actor, load_actor
 
 

@@ -6,7 +6,7 @@ the exploration, the budget of steps) or what the actor sees? The heuristic deci
 fit (it ray casts the estimate to predict where each approach lands); the touch observation has
 no fit, only the contacts, normals and past touches. This script records the heuristic's touches
 on ``HapticExplore-v0`` together with the touch observation an actor would have seen
-(:class:`~hapticsim.envs.haptic_explore_touch.TouchObserver`), fits the same network as
+(:class:`~hapticsim.envs.haptic_explore_touch_v0.TouchObserver`), fits the same network as
 ``learned-touch`` (``TouchSetExtractor`` + MLP, PPO's policy) to those actions by least squares,
 and exports it as a weight file that ``hapticsim policies evaluate --policy learned:PATH`` runs.
 ``--observation compact`` does the same with the compact observation of ``learned``
@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hapticsim.envs.haptic_explore_v1 import encode_action_v1
+from hapticsim.envs.haptic_explore_compact_v0 import encode_action_v1
 from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_TOUCH_ID
 from lab.training.rllib import DEFAULT_ENV_CONFIG
 
@@ -111,7 +111,7 @@ def main() -> None:
         sys.exit("bc_heuristic.py needs the rl extra: pip install -e '.[rl]'")
     import gymnasium as gym
 
-    from hapticsim.envs.haptic_explore_touch import SETS
+    from hapticsim.envs.haptic_explore_touch_v0 import SETS
     from lab.training.export import actor_from_sb3, recorded_settings
     from lab.training.sb3 import TouchSetExtractor
 

@@ -27,7 +27,7 @@ import sys
 import gymnasium as gym
 import numpy as np
 
-from hapticsim.envs.haptic_explore_v1 import encode_action_v1
+from hapticsim.envs.haptic_explore_compact_v0 import encode_action_v1
 from hapticsim.envs.policies import make_policy
 from hapticsim.envs.registration import HAPTIC_EXPLORE_ID, register_envs
 from hapticsim.envs.touch import decode_action

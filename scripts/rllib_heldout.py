@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import wilcoxon
 
-from hapticsim.envs.haptic_explore_v1 import OBS_DIM
+from hapticsim.envs.haptic_explore_compact_v0 import OBS_DIM
 from hapticsim.envs.learned import load_actor
 from lab.training.rllib import deterministic_policy, final_epsilons
 

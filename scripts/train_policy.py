@@ -167,7 +167,7 @@ def make_model(args: argparse.Namespace, env: Any) -> Any:
     critic = list(args.critic_net or args.net)
     extractor: dict[str, Any] = {}
     if args.env != "compact":
-        from hapticsim.envs.haptic_explore_touch import SETS, TACTILE_SETS
+        from hapticsim.envs.haptic_explore_touch_v0 import SETS, TACTILE_SETS
         from lab.training.sb3 import TouchSetExtractor
 
         sets = TACTILE_SETS if args.env == "touch-tactile" else SETS

@@ -17,12 +17,12 @@ stroke length, finger count, budget), never the ground truth:
   parameters' entropy) instead of the coverage gap.
 - :class:`LearnedPolicy`: a trained actor (:mod:`hapticsim.envs.learned`, numpy only) on the
   compact observation of ``HapticExploreCompact-v0``
-  (:class:`~hapticsim.envs.haptic_explore_v1.CompactObserver`), which it computes itself from
-  the v0 observation. ``"learned"`` is the actor shipped in the package (trained by
+  (:class:`~hapticsim.envs.haptic_explore_compact_v0.CompactObserver`), which it computes
+  itself from the v0 observation. ``"learned"`` is the actor shipped in the package (trained by
   ``scripts/train_policy.py``; recipe and results in ``docs/policies/learned/``),
   ``"learned:PATH"`` any weight file. ``"learned-touch"`` is the shipped actor that learned
   from the touch history itself (``hapticsim/HapticExploreTouch-v0``'s observation,
-  :class:`~hapticsim.envs.haptic_explore_touch.TouchObserver`: contacts, normals and past
+  :class:`~hapticsim.envs.haptic_explore_touch_v0.TouchObserver`: contacts, normals and past
   touches encoded by a permutation-invariant network; ``docs/policies/learned_touch/``); a
   weight file trained on any of these observations (or on
   ``hapticsim/HapticExploreTouchTactile-v0``'s, which adds each touch's pad image and runs on
@@ -39,15 +39,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import did_you_mean
 from hapticsim.constants import DEFAULT_LAMBDA
-from hapticsim.envs import haptic_explore_touch as touch_env
-from hapticsim.envs import haptic_explore_v1 as v1
+from hapticsim.envs import haptic_explore_compact_v0 as v1
+from hapticsim.envs import haptic_explore_touch_v0 as touch_env
+from hapticsim.envs.haptic_explore_compact_v0 import estimate_from_observation, observed_contacts
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.haptic_explore_v1 import estimate_from_observation, observed_contacts
 from hapticsim.envs.learned import MEANING_SETTINGS, load_actor
 from hapticsim.envs.registration import canonical_id
 from hapticsim.envs.touch import encode_touch
@@ -381,11 +382,11 @@ class LearnedPolicy(Policy):
 
     On a v0 environment (the comparisons, ``hapticsim policies evaluate``, the suites) it makes
     the observation it was trained on itself, with a
-    :class:`~hapticsim.envs.haptic_explore_v1.CompactObserver` or a
-    :class:`~hapticsim.envs.haptic_explore_touch.TouchObserver` (from the v0 observation and its
+    :class:`~hapticsim.envs.haptic_explore_compact_v0.CompactObserver` or a
+    :class:`~hapticsim.envs.haptic_explore_touch_v0.TouchObserver` (from the v0 observation and its
     own past approaches: exactly what the training environment shows), and returns the v0
-    action of its action (:func:`~hapticsim.envs.haptic_explore_v1.v0_action`: the fingers in
-    turn); on its own training environment it acts on the observation directly.
+    action of its action (:func:`~hapticsim.envs.haptic_explore_compact_v0.v0_action`: the
+    fingers in turn); on its own training environment it acts on the observation directly.
 
     Args:
         env: the environment (``HapticExplore-v0``, or the actor's own; configuration only).
@@ -411,19 +412,20 @@ class LearnedPolicy(Policy):
         path: str | Path | None = None,
     ) -> None:
         base = env.unwrapped
-        own = isinstance(base, v1.HapticExploreV1Env)
-        self.config = base.config.base if own else base.config
+        compact = _compact_wrapper(env)  # the actor's own kind of environment, or None
+        own = compact is not None
+        self.config = base.config
         self.n_fingers = base.n_fingers
-        self.action_space = base.action_space
+        self.action_space = (compact or base).action_space
         self.rng = np.random.default_rng(rng)
         self.path = self.default_weights if path is None else Path(path)
         self.actor = load_learned(self.path, self.config)
         env_id = canonical_id(str(self.actor.meta.get("env_id")))
-        self.on_v1 = own and base.observation_space.shape == (self.actor.obs_dim,)
+        self.on_v1 = own and compact.observation_space.shape == (self.actor.obs_dim,)
         if own and not self.on_v1:
             raise InvalidInputError(
                 f"the policy was trained for {self.actor.describe()}; this environment shows "
-                f"observations of size {base.observation_space.shape}: run it on "
+                f"observations of size {compact.observation_space.shape}: run it on "
                 f"HapticExplore-v0 or on {env_id}"
             )
         self.observer = LEARNED_OBSERVATIONS[env_id][1](self.config.obs_scale)
@@ -456,6 +458,16 @@ class LearnedPolicy(Policy):
             self.actor(features), touches, self.config.max_stroke, self.n_fingers
         )
         return action
+
+
+def _compact_wrapper(env: Any) -> Any:
+    """The compact-family wrapper (compact, touch, tactile touch) in `env`'s chain of Gymnasium
+    wrappers, or None."""
+    while isinstance(env, gym.Wrapper):
+        if isinstance(env, v1.HapticExploreCompactEnv):
+            return env
+        env = env.env
+    return None
 
 
 class LearnedTouchPolicy(LearnedPolicy):

@@ -7,7 +7,7 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
 - ``hapticsim/HapticExplore-v0``: the exploration task (Dict observation of contacts and fit);
 - ``hapticsim/HapticExploreCompact-v0``: the same task with a compact observation, an action
   without finger and a log-epsilon reward, for learners
-  (:class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`). It was registered as
+  (:class:`~hapticsim.envs.haptic_explore_compact_v0.HapticExploreCompactEnv`). It was registered as
   ``hapticsim/HapticExplore-v1`` until 0.1 (SPEC §8: another task is another name, not a newer
   version), which made ``gym.make`` of v0 warn that it was "out of date"; the old id still
   makes it, with a :class:`FutureWarning` naming the new one, and is kept out of Gymnasium's
@@ -17,10 +17,10 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
   environment of its own name, another observation (SPEC §8);
 - ``hapticsim/HapticExploreTouch-v0``: the compact task observed as the touch history itself
   (contacts, normals and past touches as sets for a permutation-invariant encoder, no coverage
-  features; :class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchEnv`);
+  features; :class:`~hapticsim.envs.haptic_explore_touch_v0.HapticExploreTouchEnv`);
 - ``hapticsim/HapticExploreTouchTactile-v0``: the same felt through taxel pads, each touch's pad
   image in its set element
-  (:class:`~hapticsim.envs.haptic_explore_touch.HapticExploreTouchTactileEnv`).
+  (:class:`~hapticsim.envs.haptic_explore_touch_v0.HapticExploreTouchTactileEnv`).
 
 Each id's vector entry point is :class:`~hapticsim.envs.vector.HapticVectorEnv`: ``gym.make_vec(
 env_id, num_envs=N)`` steps the N environments in one worker process per CPU core, not one per
@@ -39,10 +39,12 @@ from gymnasium.envs.registration import EnvSpec, register, registry
 HAPTIC_EXPLORE_ID: str = "hapticsim/HapticExplore-v0"
 #: Its string entry point (imported only when the environment is made).
 HAPTIC_EXPLORE_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v0:HapticExploreEnv"
-#: Id of the compact variant for learners (its module is still ``haptic_explore_v1``).
+#: Id of the compact variant for learners (a wrapper of the core).
 HAPTIC_EXPLORE_COMPACT_ID: str = "hapticsim/HapticExploreCompact-v0"
 #: Its string entry point.
-HAPTIC_EXPLORE_COMPACT_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
+HAPTIC_EXPLORE_COMPACT_ENTRY_POINT: str = (
+    "hapticsim.envs.haptic_explore_compact_v0:HapticExploreCompactEnv"
+)
 #: Ids that name another one now (old -> new): they still make it, with a FutureWarning.
 RENAMED_IDS: dict[str, str] = {"hapticsim/HapticExplore-v1": HAPTIC_EXPLORE_COMPACT_ID}
 #: Id of the tactile environment (taxel images in the observation).
@@ -55,12 +57,14 @@ HAPTIC_EXPLORE_TACTILE_ENTRY_POINT: str = (
 #: Id of the touch-history variant for learners.
 HAPTIC_EXPLORE_TOUCH_ID: str = "hapticsim/HapticExploreTouch-v0"
 #: Its string entry point.
-HAPTIC_EXPLORE_TOUCH_ENTRY_POINT: str = "hapticsim.envs.haptic_explore_touch:HapticExploreTouchEnv"
+HAPTIC_EXPLORE_TOUCH_ENTRY_POINT: str = (
+    "hapticsim.envs.haptic_explore_touch_v0:HapticExploreTouchEnv"
+)
 #: Id of the touch-history variant felt through taxel pads (pad images in the touch set).
 HAPTIC_EXPLORE_TOUCH_TACTILE_ID: str = "hapticsim/HapticExploreTouchTactile-v0"
 #: Its string entry point.
 HAPTIC_EXPLORE_TOUCH_TACTILE_ENTRY_POINT: str = (
-    "hapticsim.envs.haptic_explore_touch:HapticExploreTouchTactileEnv"
+    "hapticsim.envs.haptic_explore_touch_tactile_v0:HapticExploreTouchTactileEnv"
 )
 
 
@@ -79,7 +83,9 @@ def make_renamed(old_id: str, **kwargs: object):  # noqa: ANN201 - a gymnasium.E
         FutureWarning,
         stacklevel=4,
     )
-    return gym.make(new_id, **kwargs).unwrapped
+    from gymnasium.envs.registration import load_env_creator
+
+    return load_env_creator(gym.spec(new_id).entry_point)(**kwargs)
 
 
 def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: ANN201

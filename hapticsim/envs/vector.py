@@ -84,14 +84,10 @@ def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
 
 
 def _explore_core(env: gym.Env) -> HapticExploreEnv | None:
-    """The :class:`HapticExploreEnv` that runs inside `env` (itself, or the ``base`` of v1 and
-    the touch environments), or None."""
-    inner: Any = env.unwrapped
-    while not isinstance(inner, HapticExploreEnv):
-        inner = getattr(inner, "base", None)
-        if inner is None:
-            return None
-    return inner
+    """The :class:`HapticExploreEnv` at the core of `env` (``env.unwrapped``: every variant is a
+    wrapper of it), or None."""
+    core = env.unwrapped
+    return core if isinstance(core, HapticExploreEnv) else None
 
 
 def _batch_priority() -> None:

@@ -16,10 +16,10 @@ Array = NDArray[np.float64]
 
 def recorded_settings(env: Any, **extra: Any) -> dict[str, Any]:
     """The ``settings`` a weight file records of its training environment: the v0 settings of
-    :data:`RECORDED_SETTINGS` (of a v1-family environment's ``config.base``), then `extra`
+    :data:`RECORDED_SETTINGS` (of its core environment, ``env.unwrapped``), then `extra`
     (e.g. ``objects``, ``reward``), then ``n_fingers``."""
     base = env.unwrapped
-    settings = {k: getattr(base.config.base, k) for k in RECORDED_SETTINGS}
+    settings = {k: getattr(base.config, k) for k in RECORDED_SETTINGS}
     return settings | extra | {"n_fingers": base.n_fingers}
 
 

@@ -2,7 +2,7 @@
 observation, and hapticsim's native vector environment as an SB3 ``VecEnv``.
 
 - :class:`TouchSetExtractor`: the features extractor of ``hapticsim/HapticExploreTouch-v0``'s
-  observation (:mod:`hapticsim.envs.haptic_explore_touch`): a small network applied to every
+  observation (:mod:`hapticsim.envs.haptic_explore_touch_v0`): a small network applied to every
   present element of each set (contacts, touches), pooled by maximum and mean, beside the
   observation's head. :func:`hapticsim.envs.learned.actor_from_sb3` exports it with the actor,
   and :class:`hapticsim.envs.learned.Actor` runs it in numpy.
@@ -35,7 +35,7 @@ class TouchSetExtractor(BaseFeaturesExtractor):
         observation_space: a flat ``Box`` whose tail holds the sets.
         sets: (offset, count, width) per set, following one another to the observation's end
             (default: ``hapticsim/HapticExploreTouch-v0``'s :data:`~hapticsim.envs.
-            haptic_explore_touch.SETS`); an element's last number is 1 where it is present.
+            haptic_explore_touch_v0.SETS`); an element's last number is 1 where it is present.
         hidden: widths of every set's per-element network (ReLU after each layer).
     """
 
@@ -46,7 +46,7 @@ class TouchSetExtractor(BaseFeaturesExtractor):
         hidden: tuple[int, ...] = (64, 64),
     ) -> None:
         if sets is None:
-            from hapticsim.envs.haptic_explore_touch import SETS
+            from hapticsim.envs.haptic_explore_touch_v0 import SETS
 
             sets = SETS
         sets = tuple(tuple(int(v) for v in s) for s in sets)

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from hapticsim.envs.haptic_explore_v1 import ACTION_DIM_V1, ENV_ID, OBS_DIM
+from hapticsim.envs.haptic_explore_compact_v0 import ACTION_DIM_V1, ENV_ID, OBS_DIM
 from hapticsim.envs.learned import Actor, load_actor
 from hapticsim.errors import InvalidInputError
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from hapticsim.envs.estimator import FitSchedule
+from hapticsim.envs.haptic_explore_compact_v0 import ENV_ID, OBS_DIM, HapticExploreCompactEnv
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.haptic_explore_v1 import ENV_ID, OBS_DIM, HapticExploreV1Env
 from hapticsim.envs.learned import load_actor
 from hapticsim.envs.policies import (
     LEARNED_WEIGHTS,
@@ -64,7 +64,7 @@ def test_the_shipped_policy_runs_an_episode_deterministically() -> None:
 def test_on_v0_it_acts_as_on_v1() -> None:
     """The policy's own compact observation is v1's: the same episode either way."""
     v0 = make(touch_budget=4)
-    v1 = HapticExploreV1Env(backend="analytic", objects="random", fit=FAST_FIT, touch_budget=4)
+    v1 = HapticExploreCompactEnv(backend="analytic", objects="random", fit=FAST_FIT, touch_budget=4)
     on_v0 = run_episode(v0, make_policy("learned", v0), seed=8)
     on_v1 = run_episode(v1, make_policy("learned", v1), seed=8)
     np.testing.assert_array_equal(on_v0.epsilon, on_v1.epsilon)

@@ -107,8 +107,8 @@ def test_noise_reaches_the_environment(capsys) -> None:  # noqa: ANN001
 
 
 def test_tactile_sensing_runs_tactile_actors_and_exact_refuses_them(capsys, tmp_path) -> None:  # noqa: ANN001
-    from hapticsim.envs.haptic_explore_touch import TACTILE_ENV_ID, TACTILE_SETS
-    from tests.envs.test_haptic_explore_touch import random_set_actor
+    from hapticsim.envs.haptic_explore_touch_v0 import TACTILE_ENV_ID, TACTILE_SETS
+    from tests.envs.test_haptic_explore_touch_v0 import random_set_actor
 
     path = random_set_actor(env_id=TACTILE_ENV_ID, sets=TACTILE_SETS).save(tmp_path / "t.npz")
     code, out, err = run_cli(capsys, "--policy", f"learned:{path}", "--quiet")

@@ -92,7 +92,7 @@ def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path, observati
     assert json.loads(run.stdout)["steps"] == 512
     from hapticsim.envs.estimator import FitSchedule
     from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
-    from hapticsim.envs.haptic_explore_touch import ENV_ID, TACTILE_ENV_ID
+    from hapticsim.envs.haptic_explore_touch_v0 import ENV_ID, TACTILE_ENV_ID
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
     from hapticsim.envs.policies import make_policy, run_episode
 

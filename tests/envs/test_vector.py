@@ -109,12 +109,12 @@ def test_native_matches_sync_bit_for_bit(workers: int) -> None:
     _assert_same(sync, native)
 
 
-def _wait_for_draws(envs: gym.vector.VectorEnv, v1: bool = False, timeout: float = 60.0) -> None:
+def _wait_for_draws(envs: gym.vector.VectorEnv, timeout: float = 60.0) -> None:
     """Wait until every environment holds its next episode's draws (the helpers run at idle
-    priority: on a busy machine they may take a while); `v1`: the environments run v0 inside."""
+    priority: on a busy machine they may take a while); a wrapped environment's core holds them."""
     end = time.monotonic() + timeout
     while True:
-        pending = [c._ahead for c in envs.get_attr("base")] if v1 else envs.get_attr("_ahead")
+        pending = envs.get_attr("_ahead")  # the core's, through any wrapper
         if all(d is not None for d in pending):
             return
         assert time.monotonic() < end, "the helpers drew nothing in time"
@@ -163,7 +163,7 @@ def test_the_compact_environment_draws_ahead_too() -> None:
     envs = gym.make_vec(HAPTIC_EXPLORE_COMPACT_ID, 2, workers=2, **KWARGS)
     envs.reset(seed=0)
     for _ in range(5):  # budget 4: the 5th step resets
-        _wait_for_draws(envs, v1=True)
+        _wait_for_draws(envs)
         envs.step(np.zeros((2, 5), np.float32))
     assert envs.get_attr("resets_drawn_ahead") == (1, 1)
     envs.close()

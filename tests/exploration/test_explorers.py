@@ -66,9 +66,9 @@ def test_a_tactile_actor_explores_through_the_hands_pads(tmp_path) -> None:  # n
     """With tactile sensing the policy sees the pads' images, which a tactile actor needs."""
     from dataclasses import replace
 
-    from hapticsim.envs.haptic_explore_touch import TACTILE_ENV_ID, TACTILE_SETS
+    from hapticsim.envs.haptic_explore_touch_v0 import TACTILE_ENV_ID, TACTILE_SETS
     from hapticsim.sim.scene import SceneConfig
-    from tests.envs.test_haptic_explore_touch import random_set_actor
+    from tests.envs.test_haptic_explore_touch_v0 import random_set_actor
 
     path = random_set_actor(env_id=TACTILE_ENV_ID, sets=TACTILE_SETS).save(tmp_path / "t.npz")
     tactile = replace(SceneConfig(), sensing="tactile")

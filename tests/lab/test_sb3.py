@@ -12,7 +12,7 @@ torch = pytest.importorskip("torch")
 from stable_baselines3 import PPO  # noqa: E402
 from stable_baselines3.common.env_util import make_vec_env  # noqa: E402
 
-from hapticsim.envs.haptic_explore_touch import ENV_ID, OBS_DIM  # noqa: E402
+from hapticsim.envs.haptic_explore_touch_v0 import ENV_ID, OBS_DIM  # noqa: E402
 from hapticsim.envs.learned import load_actor  # noqa: E402
 from hapticsim.errors import InvalidInputError  # noqa: E402
 from lab.training.export import actor_from_sb3  # noqa: E402

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
-from hapticsim.envs.haptic_explore_touch import (
+from hapticsim.envs.haptic_explore_touch_tactile_v0 import HapticExploreTouchTactileEnv
+from hapticsim.envs.haptic_explore_touch_v0 import (
     MAX_TOUCHES,
     OBS_DIM,
     TACTILE_ENV_ID,
@@ -19,14 +20,13 @@ from hapticsim.envs.haptic_explore_touch import (
     TOUCH_WIDTH,
     TOUCHES_OFFSET,
     HapticExploreTouchEnv,
-    HapticExploreTouchTactileEnv,
     TouchObserver,
     pool_taxels,
 )
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.policies import make_policy, run_episode
 from hapticsim.errors import InvalidInputError
-from tests.envs.test_haptic_explore_touch import KW, random_set_actor
+from tests.envs.test_haptic_explore_touch_v0 import KW, random_set_actor
 
 
 def test_pooling_takes_the_pad_that_felt_most_block_by_block() -> None:
@@ -63,17 +63,17 @@ def test_each_touch_carries_its_pad_image() -> None:
     observations, and the image of the touch's last contact (zeros for a touch without)."""
 
     env = HapticExploreTouchTactileEnv(**(KW | {"touch_budget": 8}))
-    assert env.config.base.sensing == "tactile"
+    assert env.config.core.sensing == "tactile"
     obs, _ = env.reset(seed=4)
     assert obs.shape == (TACTILE_OBS_DIM,) == env.observation_space.shape
     plain = TouchObserver()
-    v0_obs = env.base._observation()
+    v0_obs = env.unwrapped._observation()
     np.testing.assert_array_equal(plain.reset(v0_obs), obs[:OBS_DIM])
     rng = np.random.default_rng(1)
     empty = felt = 0
     for k in range(8):
         obs, _, _, _, info = env.step(rng.uniform(-1, 1, 5).astype(np.float32))
-        v0_obs = env.base._observation()
+        v0_obs = env.unwrapped._observation()
         expected = plain.update(v0_obs, info["approach"])
         assert env.observation_space.contains(obs)
         np.testing.assert_array_equal(obs[:TOUCHES_OFFSET], expected[:TOUCHES_OFFSET])
@@ -96,12 +96,12 @@ def test_each_touch_carries_its_pad_image() -> None:
 def test_registered_tactile_with_a_vector_entry_point() -> None:
     env = gym.make(TACTILE_ENV_ID, **KW)
     assert env.observation_space.shape == (TACTILE_OBS_DIM,)
-    assert isinstance(env.unwrapped.base, HapticExploreTactileEnv)
+    assert isinstance(env.unwrapped, HapticExploreTactileEnv)
     env.close()
     with pytest.raises(InvalidInputError, match="sensing"):
         HapticExploreTouchTactileEnv(**KW, sensing="exact")
     capacitive = HapticExploreTouchTactileEnv(**KW, skin="capacitive")  # 9 x 9 taxels: enough
-    assert capacitive.base.taxel_shape[1:] == (9, 9)
+    assert capacitive.unwrapped.taxel_shape[1:] == (9, 9)
     vec = gym.make_vec(TACTILE_ENV_ID, num_envs=2, workers=0, **KW)
     obs, _ = vec.reset(seed=0)
     assert obs.shape == (2, TACTILE_OBS_DIM)

@@ -1,6 +1,6 @@
 """``hapticsim/HapticExploreCompact-v0``: the exploration task, compact observation for learners.
 
-See :class:`HapticExploreV1Env`. The compact observation is made by :class:`CompactObserver`
+See :class:`HapticExploreCompactEnv`. The compact observation is made by :class:`CompactObserver`
 from what ``HapticExplore-v0`` shows (its observation and the agent's own past actions), so a
 policy trained on v1 also runs on a v0 environment (``hapticsim.envs.policies`` policy
 ``"learned"``), with exactly the features it was trained on.
@@ -269,8 +269,9 @@ class HapticExploreV1Config:
     """The settings of v1: those of v0 (:class:`HapticExploreConfig`) and v1's reward.
 
     Attributes:
-        base: the v0 settings (backend, objects, touch budget, noise, fit schedule, ...); its
-            reward is ignored (v1 always scores epsilon, so ``compute_metrics`` is on).
+        core: the core environment's (v0's) settings (backend, objects, touch budget, noise,
+            fit schedule, ...); its reward is ignored (v1 always scores epsilon, so
+            ``compute_metrics`` is on).
         reward: ``"log_epsilon"`` (default, privileged: ``log eps_{t-1} - log eps_t`` with eps
             floored at `epsilon_floor`, so the return is ``-log eps_T``: every halving of the
             final error counts the same) or ``"epsilon"`` (v0's ``eps_{t-1} - eps_t``).
@@ -281,15 +282,15 @@ class HapticExploreV1Config:
             is least supported pays at once instead of through the noisy change of epsilon.
     """
 
-    base: HapticExploreConfig
+    core: HapticExploreConfig
     reward: str = "log_epsilon"
     epsilon_floor: float = 1e-3
     coverage_weight: float = 0.0
 
     def __post_init__(self) -> None:
-        if not isinstance(self.base, HapticExploreConfig):
+        if not isinstance(self.core, HapticExploreConfig):
             raise InvalidInputError(
-                f"`base` must be a HapticExploreConfig, got {type(self.base).__name__}"
+                f"`core` must be a HapticExploreConfig, got {type(self.core).__name__}"
             )
         if self.reward not in REWARDS_V1:
             raise ChoiceError("reward", self.reward, REWARDS_V1)
@@ -299,29 +300,29 @@ class HapticExploreV1Config:
         c = self.coverage_weight
         if not isinstance(c, (int, float)) or not np.isfinite(c) or not 0 <= c <= 100:
             raise InvalidInputError(f"`coverage_weight` must be in [0, 100], got {c!r}")
-        if self.base.reward != "epsilon" or not self.base.compute_metrics:
-
-            object.__setattr__(self, "base", replace(self.base, reward="epsilon"))
+        if self.core.reward != "epsilon" or not self.core.compute_metrics:
+            object.__setattr__(self, "core", replace(self.core, reward="epsilon"))
 
     @classmethod
     def from_kwargs(cls, **kwargs: Any) -> HapticExploreV1Config:
         """The config from keyword arguments: v1's own (``reward``, ``epsilon_floor``) and v0's."""
-        own = {f.name for f in fields(cls)} - {"base"}
+        own = {f.name for f in fields(cls)} - {"core"}
         v1 = {k: kwargs.pop(k) for k in list(kwargs) if k in own}
 
         if "fit" in kwargs and isinstance(kwargs["fit"], dict):
             kwargs["fit"] = FitSchedule(**kwargs["fit"])
         kwargs["reward"] = "epsilon"
-        return cls(base=HapticExploreConfig(**kwargs), **v1)
+        return cls(core=HapticExploreConfig(**kwargs), **v1)
 
 
-class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
-    """Haptic exploration (as v0) with a compact observation, a simpler action and a log reward.
+class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarray]):
+    """Haptic exploration (as v0) with a compact observation, a simpler action and a log reward:
+    a Gymnasium wrapper around the core environment.
 
     The task, objects, backends, touches, fits and ``info`` are those of ``HapticExplore-v0``
-    (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`, which runs inside:
-    :attr:`base`); what the agent sees, does and is rewarded with changes, so that off-policy
-    learners train on a few dozen numbers instead of v0's 1,808.
+    (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`, the core it wraps:
+    ``env.unwrapped``); what the agent sees, does and is rewarded with changes, so that
+    off-policy learners train on a few dozen numbers instead of v0's 1,808.
 
     ## Action space
 
@@ -362,7 +363,9 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     As v0 (``backend``, ``objects``, ``touch_budget``, ``noise``, ``fit``, ...; or
     ``config=HapticExploreV1Config(...)``), plus ``reward``, ``epsilon_floor`` and
-    ``coverage_weight`` of v1.
+    ``coverage_weight`` of v1. ``env``: the core to wrap (default: a
+    :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv` made from ``config.core``); its
+    settings must be ``config.core``.
 
     ## Version history
 
@@ -372,12 +375,9 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
     - v0: initial version (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`).
     """
 
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
-    #: The v0 environment that runs inside (:attr:`base`).
-    base_class: type[HapticExploreEnv] = HapticExploreEnv
-
     def __init__(
         self,
+        env: HapticExploreEnv | None = None,
         render_mode: str | None = None,
         config: HapticExploreV1Config | None = None,
         **kwargs: Any,
@@ -389,10 +389,15 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
                 f"`config` must be a HapticExploreV1Config, got {type(config).__name__}"
             )
         self.config = config if config is not None else HapticExploreV1Config.from_kwargs(**kwargs)
-        self.base = self.base_class(render_mode=render_mode, config=self.config.base)
-        self.render_mode = render_mode
-        self.n_fingers = self.base.n_fingers
-        self.observer = CompactObserver(self.config.base.obs_scale)
+        if env is None:
+            env = HapticExploreEnv(render_mode=render_mode, config=self.config.core)
+        elif not isinstance(env, HapticExploreEnv) or env.config != self.config.core:
+            raise InvalidInputError(
+                "`env` must be a HapticExploreEnv whose settings are `config.core`"
+            )
+        super().__init__(env)
+        self.n_fingers = env.n_fingers
+        self.observer = CompactObserver(self.config.core.obs_scale)
         self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (OBS_DIM,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM_V1,), np.float32)
         self._touches = 0
@@ -402,34 +407,33 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
     @property
     def truth(self) -> Any:
         """The episode's ground truth (world frame), privileged."""
-        return self.base.truth
+        return self.env.truth
 
     @property
     def estimate(self) -> Superquadric | None:
         """The current estimate (world frame), None before the first fit."""
-        return self.base.estimate
+        return self.env.estimate
 
     @property
     def contacts(self):  # noqa: ANN201 - hapticsim.data.io.Contacts
         """All contacts so far (see v0's :attr:`HapticExploreEnv.contacts`)."""
-        return self.base.contacts
+        return self.env.contacts
 
     @property
     def origin(self) -> Array:
         """(3,) float, the rough position [m, world]: origin of the object-centred frame."""
-        return self.base.origin
+        return self.env.origin
 
     @property
     def resets_drawn_ahead(self) -> int:
         """Resets that used draws made ahead (v0's counter: :meth:`HapticExploreEnv.offer_draw`)."""
-        return self.base.resets_drawn_ahead
+        return self.env.resets_drawn_ahead
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start an episode (v0's reset; ``options={"shape": ...}`` as there)."""
-        super().reset(seed=seed)
-        obs, info = self.base.reset(seed=seed, options=options)
+        obs, info = self.env.reset(seed=seed, options=options)
         self._touches = 0
         self._eps = 1.0
         features = self.observer.reset(obs)
@@ -438,12 +442,12 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One touch (v0's step on the mapped action), the compact observation and reward."""
-        if self.base.truth is None:
+        if self.env.truth is None:
             raise InvalidInputError("call `reset` before `step`")
         act, approach = v0_action(
-            action, self._touches, self.config.base.max_stroke, self.n_fingers
+            action, self._touches, self.config.core.max_stroke, self.n_fingers
         )
-        obs, _, terminated, truncated, info = self.base.step(act)
+        obs, _, terminated, truncated, info = self.env.step(act)
         self._touches += 1
         eps = float(info["epsilon"])
         if self.config.reward == "log_epsilon":
@@ -471,9 +475,8 @@ class HapticExploreV1Env(gym.Env[np.ndarray, np.ndarray]):
 
     def render(self) -> NDArray[np.uint8] | None:
         """An RGB picture (``render_mode="rgb_array"``), as v0."""
-        return self.base.render()
+        return self.env.render()
 
     def close(self) -> None:
         """Free the backend."""
-        self.base.close()
-        super().close()
+        self.env.close()

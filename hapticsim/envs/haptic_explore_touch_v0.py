@@ -1,8 +1,7 @@
-"""``hapticsim/HapticExploreTouch-v0``: the compact task, observed as the touch history itself;
-``hapticsim/HapticExploreTouchTactile-v0``: the same felt through taxel pads, each touch's pad
-image in its set element.
-
-See :class:`HapticExploreTouchEnv` and :class:`HapticExploreTouchTactileEnv`. The observation is
+"""``hapticsim/HapticExploreTouch-v0``: the compact task, observed as the touch history itself
+(a wrapper of the core environment, :class:`HapticExploreTouchEnv`); its tactile variant is
+:mod:`hapticsim.envs.haptic_explore_touch_tactile_v0`, and the observation constants of both
+are here. The observation is
 made by :class:`TouchObserver` from what ``HapticExplore-v0`` (or ``HapticExploreTactile-v0``)
 shows and the agent's own past approaches, so a policy trained here runs on a v0 environment too
 (``hapticsim.envs.policies`` policy ``"learned-touch"``, or ``"learned:PATH"``).
@@ -16,8 +15,11 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
-from hapticsim.envs.haptic_explore_v1 import HEAD_DIM, HapticExploreV1Env, observation_head
+from hapticsim.envs.haptic_explore_compact_v0 import (
+    HEAD_DIM,
+    HapticExploreCompactEnv,
+    observation_head,
+)
 from hapticsim.envs.observation import OBS_BOUND
 from hapticsim.errors import InvalidInputError
 
@@ -111,7 +113,7 @@ class TouchObserver:
     | Index   | Content                                                                     |
     |---------|-----------------------------------------------------------------------------|
     | 0-16    | as the compact observation's: fit (13), fit_valid, eof, touches / 10,       |
-    |         | contacts / 100 (:func:`~hapticsim.envs.haptic_explore_v1.observation_head`) |
+    |         | contacts / 100 (``haptic_explore_compact_v0.observation_head``)             |
     | 17-464  | 64 contacts x (x, y, z, nx, ny, nz, present): v0's ``points`` (object-      |
     |         | centred, / obs_scale) and ``normals``; all contacts, or 64 evenly spread    |
     |         | over them (:func:`point_indices`); absent ones are zeros                    |
@@ -183,12 +185,12 @@ class TouchObserver:
         return np.clip(out, -OBS_BOUND, OBS_BOUND).astype(np.float32)
 
 
-class HapticExploreTouchEnv(HapticExploreV1Env):
+class HapticExploreTouchEnv(HapticExploreCompactEnv):
     """``hapticsim/HapticExploreCompact-v0``'s task, observed as the touch history itself.
 
     Action, reward (including the optional coverage term, computed as there), episode end,
     ``info`` and arguments are those of
-    :class:`~hapticsim.envs.haptic_explore_v1.HapticExploreV1Env`; only the observation
+    :class:`~hapticsim.envs.haptic_explore_compact_v0.HapticExploreCompactEnv`; only the observation
     differs: instead of engineered coverage features, the contacts and normals so far and the
     agent's past touches as two sets (:class:`TouchObserver`), for a permutation-invariant
     encoder (:data:`SETS`; ``lab.training.sb3.TouchSetExtractor``).
@@ -205,8 +207,10 @@ class HapticExploreTouchEnv(HapticExploreV1Env):
     #: Each touch's pad image in its element (:class:`TouchObserver`'s ``taxels``).
     taxels: bool = False
 
-    def __init__(self, render_mode: str | None = None, config: Any = None, **kwargs: Any) -> None:
-        super().__init__(render_mode=render_mode, config=config, **kwargs)
+    def __init__(
+        self, env: Any = None, render_mode: str | None = None, config: Any = None, **kwargs: Any
+    ) -> None:
+        super().__init__(env, render_mode=render_mode, config=config, **kwargs)
         self.touch_observer = TouchObserver(taxels=self.taxels)
         shape = (self.touch_observer.obs_dim,)
         self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, shape, np.float32)
@@ -219,46 +223,10 @@ class HapticExploreTouchEnv(HapticExploreV1Env):
         return self.touch_observer.update(obs, approach)
 
 
-class HapticExploreTouchTactileEnv(HapticExploreTouchEnv):
-    """:class:`HapticExploreTouchEnv`'s task felt through taxel pads (``sensing="tactile"``),
-    each touch's pad image in its set element.
-
-    Contacts are estimated from the pads, as in ``hapticsim/HapticExploreTactile-v0`` (which
-    runs inside: ``skin`` and the other tactile settings as there); the observation is the
-    touch history of :class:`TouchObserver` with ``taxels=True``.
-
-    ## Observation space
-
-    ``Box(-10, 10, (1569,), float32)``: 17 head entries, 64 contacts x 7, 16 touches x 69
-    (approach, contacts it brought / 10, the pad that felt most pooled to 8 x 8 blocks over
-    the largest, present). Sets: :data:`TACTILE_SETS`. No ground truth.
-
-    ## Version history
-
-    - v0: initial version.
-    """
-
-    base_class = HapticExploreTactileEnv
-    taxels = True
-
-    def __init__(self, render_mode: str | None = None, config: Any = None, **kwargs: Any) -> None:
-        if config is None:
-            kwargs.setdefault("sensing", "tactile")
-        super().__init__(render_mode=render_mode, config=config, **kwargs)
-        _, rows, cols = self.base.taxel_shape
-        if rows < TAXEL_GRID or cols < TAXEL_GRID:
-            raise InvalidInputError(
-                f"the pads have {rows} x {cols} taxels; this observation pools them to "
-                f"{TAXEL_GRID} x {TAXEL_GRID} blocks and needs at least that many (a skin of "
-                "finer pitch)"
-            )
-
-
 __all__ = [
     "ENV_ID",
     "HapticExploreTouchEnv",
-    "HapticExploreTouchTactileEnv",
-    "MAX_POINTS",
+        "MAX_POINTS",
     "MAX_TOUCHES",
     "OBS_DIM",
     "SETS",

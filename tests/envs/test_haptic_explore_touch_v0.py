@@ -8,7 +8,12 @@ import numpy as np
 import pytest
 
 from hapticsim.envs.estimator import FitSchedule
-from hapticsim.envs.haptic_explore_touch import (
+from hapticsim.envs.haptic_explore_compact_v0 import (
+    ACTION_DIM_V1,
+    HEAD_DIM,
+    HapticExploreCompactEnv,
+)
+from hapticsim.envs.haptic_explore_touch_v0 import (
     ENV_ID,
     MAX_POINTS,
     MAX_TOUCHES,
@@ -22,7 +27,6 @@ from hapticsim.envs.haptic_explore_touch import (
     point_indices,
 )
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.haptic_explore_v1 import ACTION_DIM_V1, HEAD_DIM, HapticExploreV1Env
 from hapticsim.envs.learned import Actor, SetEncoder, load_actor
 from hapticsim.envs.policies import (
     LEARNED_TOUCH_WEIGHTS,
@@ -77,13 +81,13 @@ def test_the_observation_is_the_touch_history() -> None:
     touches = obs[TOUCHES_OFFSET:].reshape(MAX_TOUCHES, TOUCH_WIDTH)
     contacts = env.contacts
     shown = point_indices(len(contacts.points))
-    expected = (contacts.points[shown] - env.origin) / env.config.base.obs_scale
+    expected = (contacts.points[shown] - env.origin) / env.config.core.obs_scale
     np.testing.assert_allclose(points[: len(shown), :3], expected, atol=1e-5)
     np.testing.assert_allclose(points[: len(shown), 3:6], contacts.normals[shown], atol=1e-6)
     assert points[: len(shown), 6].all() and not points[len(shown) :].any()
     np.testing.assert_allclose(touches[:4, :3], np.array(approaches), atol=1e-6)
     assert touches[:4, 4].all() and not touches[4:].any()
-    shown_in_all = min(len(contacts.points), env.config.base.max_contacts)
+    shown_in_all = min(len(contacts.points), env.config.core.max_contacts)
     assert touches[:4, 3].sum() * 10 == pytest.approx(shown_in_all)
     assert obs[HEAD_DIM - 2] == pytest.approx(0.4)  # touches / 10
 
@@ -91,7 +95,7 @@ def test_the_observation_is_the_touch_history() -> None:
 def test_same_task_as_the_compact_environment() -> None:
     """Only the observation differs: the same actions give the same rewards and infos."""
     touch = HapticExploreTouchEnv(**KW, coverage_weight=2.0)
-    compact = HapticExploreV1Env(**KW, coverage_weight=2.0)
+    compact = HapticExploreCompactEnv(**KW, coverage_weight=2.0)
     a, _ = touch.reset(seed=5)
     b, _ = compact.reset(seed=5)
     np.testing.assert_array_equal(a[:HEAD_DIM], b[:HEAD_DIM])
@@ -172,7 +176,7 @@ def test_a_touch_actor_runs_on_v0_as_on_its_own_environment(tmp_path) -> None:  
     np.testing.assert_array_equal(on_v0.epsilon, on_own.epsilon)
     np.testing.assert_array_equal(on_v0.n_contacts, on_own.n_contacts)
     with pytest.raises(InvalidInputError, match="observations of size"):
-        make_policy(f"learned:{path}", HapticExploreV1Env(**KW))
+        make_policy(f"learned:{path}", HapticExploreCompactEnv(**KW))
 
 
 def test_the_shipped_touch_policy_loads_and_runs() -> None:

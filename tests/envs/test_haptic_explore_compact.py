@@ -11,8 +11,7 @@ from gymnasium.utils.env_checker import check_env
 
 import hapticsim  # noqa: F401  (registers the environments)
 from hapticsim.envs.estimator import FitSchedule
-from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.haptic_explore_v1 import (
+from hapticsim.envs.haptic_explore_compact_v0 import (
     DIRECTIONS,
     ENV_ID,
     FAILED_CONE,
@@ -20,13 +19,14 @@ from hapticsim.envs.haptic_explore_v1 import (
     OBS_DIM,
     OBS_NAMES,
     CompactObserver,
+    HapticExploreCompactEnv,
     HapticExploreV1Config,
-    HapticExploreV1Env,
     decode_action_v1,
     encode_action_v1,
     finger_for_touch,
     v0_action,
 )
+from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.registration import HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_ID
 from hapticsim.envs.touch import decode_action
 from hapticsim.errors import InvalidInputError
@@ -36,24 +36,24 @@ GAPS = slice(17, 17 + N_DIRECTIONS)
 FAILED = slice(17 + N_DIRECTIONS, 17 + 2 * N_DIRECTIONS)
 
 
-def make(**kwargs: object) -> HapticExploreV1Env:
+def make(**kwargs: object) -> HapticExploreCompactEnv:
     kwargs.setdefault("fit", FAST_FIT)
     kwargs.setdefault("objects", "random")
-    return HapticExploreV1Env(backend="analytic", **kwargs)  # type: ignore[arg-type]
+    return HapticExploreCompactEnv(backend="analytic", **kwargs)  # type: ignore[arg-type]
 
 
 def test_the_compact_task_has_a_name_of_its_own_and_v0_warns_of_nothing() -> None:
     assert HAPTIC_EXPLORE_COMPACT_ID == ENV_ID == "hapticsim/HapticExploreCompact-v0"
     spec = gym.spec(HAPTIC_EXPLORE_COMPACT_ID)
-    assert spec.entry_point == "hapticsim.envs.haptic_explore_v1:HapticExploreV1Env"
+    assert spec.entry_point == "hapticsim.envs.haptic_explore_compact_v0:HapticExploreCompactEnv"
     assert spec.version == 0
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # "out of date, upgrade to v1" was a DeprecationWarning
         gym.make(HAPTIC_EXPLORE_ID, backend="analytic").close()
     with pytest.warns(FutureWarning, match="HapticExplore-v1 is now hapticsim/HapticExploreCo"):
         old = gym.make("hapticsim/HapticExplore-v1", backend="analytic", touch_budget=2)
-    assert isinstance(old.unwrapped, HapticExploreV1Env)
-    assert old.unwrapped.config.base.touch_budget == 2
+    assert isinstance(old.env, HapticExploreCompactEnv)  # inside gym.make's OrderEnforcing
+    assert old.unwrapped.config.touch_budget == 2  # the core's settings
     old.close()
     assert gym.spec(HAPTIC_EXPLORE_ID).entry_point.endswith("haptic_explore_v0:HapticExploreEnv")
     env = gym.make(HAPTIC_EXPLORE_COMPACT_ID, backend="analytic", fit=FAST_FIT, touch_budget=2)
@@ -230,9 +230,11 @@ def test_bad_settings_are_refused() -> None:
     with pytest.raises(InvalidInputError, match="epsilon_floor"):
         make(epsilon_floor=0.0)
     with pytest.raises(InvalidInputError, match="backend"):
-        HapticExploreV1Env(backend="bullet")
+        HapticExploreCompactEnv(backend="bullet")
     with pytest.raises(InvalidInputError, match="either"):
-        HapticExploreV1Env(config=HapticExploreV1Config.from_kwargs(backend="analytic"), noise=0.1)
+        HapticExploreCompactEnv(
+            config=HapticExploreV1Config.from_kwargs(backend="analytic"), noise=0.1
+        )
     with pytest.raises(InvalidInputError, match="obs_scale"):
         CompactObserver(0.0)
     env = make()
