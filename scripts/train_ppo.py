@@ -45,7 +45,8 @@ def main(argv: list[str] | None = None) -> int:
     import gymnasium as gym
 
     import hapticsim  # noqa: F401  (registers the environment)
-    from hapticsim.envs.policies import RandomPolicy, run_episode
+    from hapticsim.envs.episodes import run_episode
+    from hapticsim.envs.policies import RandomPolicy
     from hapticsim.envs.registration import HAPTIC_EXPLORE_ID
 
     env_kwargs = {"backend": "analytic", "objects": args.objects, "touch_budget": args.budget}

@@ -56,8 +56,9 @@ _ENVS: dict[tuple, Any] = {}
 
 def run_task(task: ComparisonTask) -> dict[str, Any]:
     """Run one episode; returns epsilon, IoU, contacts and step times after each touch."""
+    from hapticsim.envs.episodes import run_episode
     from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
-    from hapticsim.envs.policies import make_policy, run_episode
+    from hapticsim.envs.policies import make_policy
 
     key = (task.objects, tuple(sorted(task.env_kwargs.items())))
     env = None if task.fresh_env else _ENVS.get(key)

@@ -5,10 +5,8 @@ See :class:`HapticExploreEnv`.
 
 from __future__ import annotations
 
-import os
 import time
-from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import gymnasium as gym
@@ -16,253 +14,21 @@ import numpy as np
 from gymnasium import spaces
 from numpy.typing import NDArray
 
-from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES, SENSINGS
-from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.data.io import Contacts
-from hapticsim.envs.backends import BACKENDS, make_backend
+from hapticsim.envs.backends import make_backend
+from hapticsim.envs.config import HapticExploreConfig
+from hapticsim.envs.episode_draw import EpisodeDraw, EpisodeDrawer
 from hapticsim.envs.estimator import FitSchedule, FitUpdate, IncrementalFitter
 from hapticsim.envs.observation import OBS_BOUND, encode_fit
-from hapticsim.envs.support import SUPPORTS
 from hapticsim.envs.touch import ACTION_DIM, TouchResult, decode_action
-from hapticsim.errors import ChoiceError, InvalidInputError
+from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.solid import Solid
 from hapticsim.metrics.coverage import coverage_uncertainty
 from hapticsim.metrics.episode import TruthScorer
-from hapticsim.perception.vision import DepthCamera, RoughObject, vision_estimate
+from hapticsim.perception.vision import DepthCamera
 
 Array = NDArray[np.float64]
-
-#: Reward definitions.
-REWARDS: tuple[str, ...] = ("epsilon", "uncertainty", "eof")
-#: How contacts are sensed.
-
-
-@dataclass(frozen=True)
-class EpisodeDraw:
-    """What a reset drew from the environment's generator (:meth:`EpisodeDrawer.draw`).
-
-    Attributes:
-        state: the generator's state (``bit_generator.state``) the draws started from.
-        after: its state after them.
-        fit_seed: the seed of the fitter's stream.
-        sensor_seed: the seed of the sensor's stream (noise, tactile readings).
-        shape: the object (packed for sending: its index among the distribution's fixed
-            solids, :meth:`EpisodeDrawer.pack`).
-        rough: the vision estimate, moved by the calibration error.
-        prepared: what the backend's reset makes of the shape alone
-            (:meth:`~hapticsim.envs.touch.TouchBackend.preparer`), or None.
-    """
-
-    state: dict[str, Any]
-    after: dict[str, Any]
-    fit_seed: int
-    sensor_seed: int
-    shape: Solid | int
-    rough: RoughObject
-    prepared: Any = None
-
-
-@dataclass(frozen=True)
-class EpisodeDrawer:
-    """What a reset draws from the environment's generator, in this order: the fitter's seed,
-    the object (unless given), the vision estimate (one noisy depth image; most of a reset's
-    time), the camera-to-hand calibration error and the sensor's seed. Nothing else draws from
-    that generator, so an episode's draws depend only on where the last reset left it.
-
-    Picklable, so that another process can draw an environment's next episode while the
-    environment is still busy with this one (:meth:`HapticExploreEnv.offer_draw`,
-    :class:`~hapticsim.envs.vector.HapticVectorEnv`); that process also makes what the
-    backend's reset needs of the shape alone (`prepare`).
-
-    Attributes:
-        objects: the object distribution.
-        camera: the depth camera.
-        position_noise: standard deviation per axis of the calibration error [m].
-        prepare: the backend's :meth:`~hapticsim.envs.touch.TouchBackend.preparer`, or None.
-    """
-
-    objects: ObjectDistribution
-    camera: DepthCamera
-    position_noise: float
-    prepare: Callable[[Solid], Any] | None = None
-
-    def draw(self, rng: np.random.Generator, shape: Solid | None = None) -> EpisodeDraw:
-        """An episode's draws from `rng` (`shape`: the object, else one drawn). To draw ahead,
-        pass a copy of the environment's generator."""
-        state = rng.bit_generator.state
-        fit_seed = int(rng.integers(2**63))
-        if shape is None:
-            shape = self.objects.sample(rng)
-        rough = vision_estimate(shape, rng, self.camera)
-        error = rng.normal(0.0, self.position_noise, size=3)
-        sensor_seed = int(rng.integers(2**63))
-        prepared = None if self.prepare is None else self.prepare(shape)
-        return EpisodeDraw(state, rng.bit_generator.state, fit_seed, sensor_seed, shape,
-                           rough.moved(rough.center + error), prepared)  # fmt: skip
-
-    def pack(self, draw: EpisodeDraw) -> EpisodeDraw:
-        """`draw` for sending to another process: an object the distribution returns as it is
-        (:meth:`~hapticsim.data.distributions.ObjectSet.fixed_solids`, e.g. a mesh) replaced by
-        its index, so that it is not copied and :meth:`unpack` gives back the same instance
-        (whose scene and scorer the environment may have cached)."""
-        for i, solid in enumerate(self.objects.fixed_solids()):
-            if draw.shape is solid:
-                return replace(draw, shape=i)
-        return draw
-
-    def unpack(self, draw: EpisodeDraw) -> EpisodeDraw:
-        """The inverse of :meth:`pack`, with this drawer's own instances."""
-        if isinstance(draw.shape, (int, np.integer)):
-            fixed = self.objects.fixed_solids()
-            if not 0 <= draw.shape < len(fixed):
-                raise InvalidInputError(
-                    f"`draw.shape` must be a solid or an index below {len(fixed)}, got "
-                    f"{draw.shape}"
-                )
-            return replace(draw, shape=fixed[int(draw.shape)])
-        return draw
-
-
-@dataclass(frozen=True)
-class HapticExploreConfig:
-    """Everything that defines the environment (the keyword arguments of the constructor).
-
-    Attributes:
-        backend: ``"mujoco"`` (the simulated hand) or ``"analytic"`` (ray casting on the true
-            superquadric; fast, same action semantics).
-        objects: the object distribution, or one of its kind names (``"paper"``, ``"random"``,
-            ``"random_tapered"``); or any object or list of objects (body names, superquadric
-            JSON files, union JSON files, ``random``/``random_tapered``, mesh files, or solids:
-            :class:`~hapticsim.data.distributions.ObjectSet`), one drawn per episode.
-        touch_budget: touches per episode; the episode is truncated after it.
-        max_contacts: size of the observation's contact buffer (later contacts are still fitted
-            but not shown).
-        max_stroke: stroke length of action component 3 = 1 [m].
-        stroke_spacing: distance between contacts along a stroke [m].
-        noise: relative sensor noise sigma_N (SPEC §5).
-        position_noise: standard deviation per axis [m] of the camera-to-hand calibration error
-            added to the vision estimate's centre
-            (:func:`hapticsim.perception.vision.vision_estimate`,
-            one noisy depth image); the result is the rough position, the origin of the
-            object-centred frame.
-        obs_scale: length [m] dividing points, semi-axes and centre in the observation.
-        reward: ``"epsilon"`` (privileged: the drop of the volume error epsilon of the estimate
-            against the ground truth), ``"uncertainty"`` (drop of the coverage uncertainty of the
-            estimate, no ground truth) or ``"eof"`` (drop of the estimate's normalised RMS error of
-            fit, no ground truth).
-        target_epsilon: terminate when epsilon falls to this value (privileged); None: never.
-        fit: the fit schedule.
-        support: what holds the object up in the analytic backend: ``"stand"`` (a thin post
-            under it, as in the MuJoCo scene, which always has one), ``"table"`` or ``"none"``;
-            contacts where a fingertip would hit it are unreachable.
-        camera_size: (width, height) [px] of the depth image of the vision estimate made at
-            every reset (:class:`hapticsim.perception.vision.DepthCamera`, otherwise its defaults):
-            half
-            the resolution of ``hapticsim explore``'s 320 x 240, which halves the cost of a
-            reset (about 25 ms of CPU) for a rough centre about 1 mm worse (median 6 mm).
-        hand: the MuJoCo backend's hand: ``"hapticsim"`` (default, four fingers), ``"shadow"``
-            or ``"adroit"`` (five fingers; the optional extra ``hands``), or the path of a TOML
-            hand description (``docs/hands.md``); the finger count sets what action component 4
-            selects. The analytic backend has no hand and ignores it.
-        compute_metrics: score the estimate against the truth every step (info); forced on for
-            ``reward="epsilon"`` and ``target_epsilon``.
-        metric_samples: samples inside each solid for alpha, beta, epsilon and IoU, scored by
-            :class:`hapticsim.metrics.episode.TruthScorer` (scrambled Sobol samples drawn once,
-            so successive scores share them and their difference, the reward, is far less
-            noisy; RMS error of epsilon 0.0032 measured at the default 4096 for superquadrics).
-        chamfer_samples: surface points per shape of the Chamfer distance (a superquadric: an
-            evenly spread lattice of directions, area-weighted, exact point-to-surface
-            distances, RMS error 1.2 % at the default 128; other solids: area samples).
-        width, height: size of rendered pictures [pixels].
-        sensing: ``"exact"`` (the backend's exact contacts) or ``"tactile"``: contacts
-            estimated from taxel pads on the fingertips (the MuJoCo hand's,
-            :mod:`hapticsim.sim.tactile`; on the analytic backend a rigid fingertip pad pressed
-            on the exact surface); the observation stays v0's
-            (``hapticsim/HapticExploreTactile-v0`` adds the taxel images).
-        skin: with tactile sensing, the skin: a preset (``"ideal"``, ``"vision"``,
-            ``"capacitive"``) or a ``.toml`` skin file (stored as the loaded preset).
-    """
-
-    backend: str = "mujoco"
-    objects: ObjectDistribution | ObjectSet | Any = "paper"
-    touch_budget: int = 20
-    max_contacts: int = 256
-    max_stroke: float = 0.05
-    stroke_spacing: float = 0.005
-    noise: float = 0.02
-    position_noise: float = 0.005
-    obs_scale: float = 0.1
-    reward: str = "epsilon"
-    target_epsilon: float | None = None
-    fit: FitSchedule = field(default_factory=FitSchedule)
-    support: str = "stand"
-    hand: str | os.PathLike[str] = "hapticsim"
-    camera_size: tuple[int, int] = (160, 120)
-    compute_metrics: bool = True
-    metric_samples: int = SCORE_SAMPLES
-    chamfer_samples: int = SCORE_CHAMFER_POINTS
-    width: int = 480
-    height: int = 360
-    sensing: str = "exact"
-    skin: Any = "ideal"
-
-    def __post_init__(self) -> None:
-        size = self.camera_size
-        if (
-            not isinstance(size, (tuple, list))
-            or len(size) != 2
-            or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 8
-                       for v in size)
-        ):  # fmt: skip
-            raise InvalidInputError(
-                f"`camera_size` must be (width, height), two ints >= 8 [px], got {size!r}"
-            )
-        object.__setattr__(self, "camera_size", (int(size[0]), int(size[1])))
-        if self.backend not in BACKENDS:
-            raise ChoiceError("backend", self.backend, BACKENDS)
-        if self.support not in SUPPORTS:
-            raise ChoiceError("support", self.support, SUPPORTS)
-        if self.reward not in REWARDS:
-            raise ChoiceError("reward", self.reward, REWARDS)
-        object.__setattr__(self, "objects", ObjectDistribution.coerce(self.objects))
-        if not isinstance(self.hand, (str, os.PathLike)) and not hasattr(self.hand, "fingers"):
-            raise InvalidInputError(
-                f"`hand` must be a hand name or a TOML description path, got {self.hand!r}"
-            )
-        if not isinstance(self.fit, FitSchedule):
-            raise InvalidInputError(f"`fit` must be a FitSchedule, got {type(self.fit).__name__}")
-        for name in ("touch_budget", "max_contacts", "width", "height"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise InvalidInputError(f"`{name}` must be an int >= 1, got {value!r}")
-        for name, low in (("metric_samples", 1000), ("chamfer_samples", 10)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-                raise InvalidInputError(f"`{name}` must be an int >= {low}, got {value!r}")
-        for name, low, high in (
-            ("max_stroke", 0.0, 1.0), ("stroke_spacing", 1e-4, 1.0), ("noise", 0.0, 1.0),
-            ("position_noise", 0.0, 0.1), ("obs_scale", 1e-3, 10.0),
-        ):  # fmt: skip
-            value = getattr(self, name)
-            if (
-                not isinstance(value, (int, float))
-                or not np.isfinite(value)
-                or not (low <= value <= high)
-            ):
-                raise InvalidInputError(f"`{name}` must be in [{low}, {high}], got {value!r}")
-        if self.target_epsilon is not None and not 0.0 <= float(self.target_epsilon) <= 2.0:
-            raise InvalidInputError(
-                f"`target_epsilon` must be None or in [0, 2], got {self.target_epsilon!r}"
-            )
-        if self.reward == "epsilon" or self.target_epsilon is not None:
-            object.__setattr__(self, "compute_metrics", True)
-        if self.sensing not in SENSINGS:
-            raise ChoiceError("sensing", self.sensing, SENSINGS)
-        from hapticsim.perception.tactile import load_skin
-
-        object.__setattr__(self, "skin", load_skin(self.skin))
-
 
 @dataclass(frozen=True)
 class StepTimings:

@@ -74,9 +74,8 @@ class MeshSolid(Solid):
         pieces: the convex pieces it collides as, when its source gives them (a URDF's collision
             hulls: :mod:`hapticsim.data.library`): vertex arrays (k, 3) [m, world], each the
             vertices of one convex hull; None (default): itself when convex, else coacd's.
-        repair: what the loader mended to make it (:mod:`hapticsim.data.mesh_repair`'s record
-            as a dict, with the volume change), carried along its transforms; None for a mesh
-            made in code.
+        repair: what the loader mended (:mod:`hapticsim.data.mesh_repair`'s record, a dict),
+            carried along its transforms; None for a mesh made in code.
 
     Instances are immutable and validated on construction (finite vertices, indices in range,
     at least 4 faces, no zero-area face, closed and consistently oriented, positive volume);

@@ -187,8 +187,9 @@ _NO_FIT: dict[str, Any] = {
 
 
 def _run_policy(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any], Any]:
+    from hapticsim.envs.episodes import run_episode
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-    from hapticsim.envs.policies import make_policy, run_episode
+    from hapticsim.envs.policies import make_policy
 
     p = case.params
     data_ss, case_ss = _seeds(case)

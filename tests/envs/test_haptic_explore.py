@@ -331,7 +331,8 @@ def test_the_fitter_draws_from_a_stream_of_its_own() -> None:
     # A schedule that never fits draws no fitter seeds, the default draws one per fit; the
     # object, rough position and (noisy) contacts of an estimate-blind policy must not notice,
     # so that two fitters can be compared on the same contacts (scripts/paired_fitters.py).
-    from hapticsim.envs.policies import make_policy, run_episode
+    from hapticsim.envs.episodes import run_episode
+    from hapticsim.envs.policies import make_policy
 
     runs = []
     for schedule in (FitSchedule(), FitSchedule(min_contacts=10**6)):

@@ -7,6 +7,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from hapticsim.envs.episodes import run_episode
 from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
 from hapticsim.envs.haptic_explore_touch_tactile_v0 import HapticExploreTouchTactileEnv
 from hapticsim.envs.haptic_explore_touch_v0 import (
@@ -24,7 +25,7 @@ from hapticsim.envs.haptic_explore_touch_v0 import (
     pool_taxels,
 )
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-from hapticsim.envs.policies import make_policy, run_episode
+from hapticsim.envs.policies import make_policy
 from hapticsim.errors import InvalidInputError
 from tests.envs.test_haptic_explore_touch_v0 import KW, random_set_actor
 

@@ -7,6 +7,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from hapticsim.envs.episodes import run_episode
 from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_compact_v0 import (
     ACTION_DIM_V1,
@@ -33,7 +34,6 @@ from hapticsim.envs.policies import (
     POLICY_NAMES,
     LearnedTouchPolicy,
     make_policy,
-    run_episode,
 )
 from hapticsim.errors import InvalidInputError
 from tests.envs.test_learned import SETTINGS

@@ -8,6 +8,7 @@ import sys
 import numpy as np
 import pytest
 
+from hapticsim.envs.episodes import run_episode
 from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_compact_v0 import ENV_ID, OBS_DIM, HapticExploreCompactEnv
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
@@ -18,7 +19,6 @@ from hapticsim.envs.policies import (
     LearnedPolicy,
     check_policy_name,
     make_policy,
-    run_episode,
 )
 from hapticsim.envs.registration import canonical_id
 from hapticsim.errors import InvalidInputError
@@ -76,7 +76,8 @@ def test_running_the_learned_policy_imports_no_torch() -> None:
         "import sys\n"
         "from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv\n"
         "from hapticsim.envs.estimator import FitSchedule\n"
-        "from hapticsim.envs.policies import make_policy, run_episode\n"
+        "from hapticsim.envs.episodes import run_episode\n"
+        "from hapticsim.envs.policies import make_policy\n"
         "env = HapticExploreEnv(backend='analytic', objects='random', touch_budget=2,\n"
         "                       fit=FitSchedule(full_budget=500, refine_budget=100))\n"
         "run_episode(env, make_policy('learned', env), seed=0)\n"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hapticsim.envs.episodes import run_episode, summarize
 from hapticsim.envs.estimator import FitSchedule
 from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
 from hapticsim.envs.policies import (
@@ -12,8 +13,6 @@ from hapticsim.envs.policies import (
     POLICY_NAMES,
     UncertaintyPolicy,
     make_policy,
-    run_episode,
-    summarize,
 )
 from hapticsim.envs.touch import decode_action
 from hapticsim.errors import InvalidInputError
@@ -80,7 +79,7 @@ def test_uncertainty_policy_touches_away_from_the_contacts() -> None:
 
 
 def test_summarize_pads_short_episodes() -> None:
-    from hapticsim.envs.policies import EpisodeRecord
+    from hapticsim.envs.episodes import EpisodeRecord
 
     rec = EpisodeRecord(np.array([1.0, 0.5]), np.zeros(2), np.zeros(2, np.int64), np.zeros(2), 0.5)
     out = summarize([rec, rec], budget=4)

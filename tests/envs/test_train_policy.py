@@ -58,9 +58,10 @@ def test_training_checkpoints_resumes_and_exports(tmp_path) -> None:  # noqa: AN
     assert "resumed sac at 2000 steps" in (out / "train.log").read_text()
 
     # The exported actor is a learned policy for the v0 environment and the command line.
+    from hapticsim.envs.episodes import run_episode
     from hapticsim.envs.estimator import FitSchedule
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-    from hapticsim.envs.policies import make_policy, run_episode
+    from hapticsim.envs.policies import make_policy
 
     env = HapticExploreEnv(
         backend="analytic", objects="random", touch_budget=3,
@@ -90,11 +91,12 @@ def test_ppo_on_the_touch_history_with_the_native_vector_env(tmp_path, observati
     )  # fmt: skip
     assert run.returncode == 0, run.stderr[-2000:]
     assert json.loads(run.stdout)["steps"] == 512
+    from hapticsim.envs.episodes import run_episode
     from hapticsim.envs.estimator import FitSchedule
     from hapticsim.envs.haptic_explore_tactile_v0 import HapticExploreTactileEnv
     from hapticsim.envs.haptic_explore_touch_v0 import ENV_ID, TACTILE_ENV_ID
     from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
-    from hapticsim.envs.policies import make_policy, run_episode
+    from hapticsim.envs.policies import make_policy
 
     tactile = observation == "touch-tactile"
     env = (HapticExploreTactileEnv if tactile else HapticExploreEnv)(

@@ -393,10 +393,10 @@ def test_a_starved_helper_is_not_asked_more_than_it_can_hold() -> None:
     environment: the worker's sends never fill its pipe, so they never block the worker."""
     import multiprocessing
 
-    from hapticsim.envs.vector import _Shard
+    from hapticsim.envs.vector_worker import Shard
 
     worker_end, helper_end = multiprocessing.Pipe()
-    shard = _Shard(HAPTIC_EXPLORE_ID, KWARGS | {"touch_budget": 1}, 2, AutoresetMode.NEXT_STEP,
+    shard = Shard(HAPTIC_EXPLORE_ID, KWARGS | {"touch_budget": 1}, 2, AutoresetMode.NEXT_STEP,
                    helper=worker_end)  # fmt: skip
     shard.make()
     shard.reset([0, 1], None, [True, True])
