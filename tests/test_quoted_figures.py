@@ -1,4 +1,4 @@
-"""Figures the README quotes come from the committed result files (one source)."""
+"""Figures the documentation quotes come from the committed result files (one source)."""
 
 from __future__ import annotations
 
@@ -15,12 +15,12 @@ def _means(path: str) -> dict[str, float]:
 
 
 def test_the_learned_policy_figures_in_the_readme_are_the_summaries() -> None:
-    text = " ".join((REPO / "README.md").read_text().split())
+    text = " ".join((REPO / "docs/guide/environments.md").read_text().split())
     sentence = re.search(r"On 100 held-out random objects its mean ε after 10 touches is "
                          r"([\d.]+) against random's ([\d.]+) and the uncertainty policy's "
                          r"([\d.]+) \(with the hand on the paper's bodies ([\d.]+) against "
                          r"([\d.]+);", text)  # fmt: skip
-    assert sentence, "the README's sentence on the learned policy changed: update this test"
+    assert sentence, "the guide's sentence on the learned policy changed: update this test"
     quoted = [float(x) for x in sentence.groups()]
     analytic = _means("docs/policies/learned/analytic/summary.json")
     mujoco = _means("docs/policies/learned/mujoco/summary.json")
@@ -29,11 +29,11 @@ def test_the_learned_policy_figures_in_the_readme_are_the_summaries() -> None:
 
 
 def test_the_touch_policy_figures_in_the_readme_are_the_summary() -> None:
-    text = " ".join((REPO / "README.md").read_text().split())
+    text = " ".join((REPO / "docs/guide/environments.md").read_text().split())
     sentence = re.search(r"On the same 100 held-out random objects its mean ε after 10 touches "
                          r"is ([\d.]+), against the `learned` actor's ([\d.]+) and the "
                          r"uncertainty policy's ([\d.]+)", text)  # fmt: skip
-    assert sentence, "the README's sentence on learned-touch changed: update this test"
+    assert sentence, "the guide's sentence on learned-touch changed: update this test"
     quoted = [float(x) for x in sentence.groups()]
     data = json.loads((REPO / "docs/policies/learned_touch/summary.json").read_text())
     mean = data["random"]["mean"]
@@ -44,10 +44,10 @@ def test_the_tactile_touch_actor_figures_in_the_readme_are_the_results() -> None
     import numpy as np
     from scipy.stats import wilcoxon
 
-    text = " ".join((REPO / "README.md").read_text().split())
+    text = " ".join((REPO / "docs/guide/environments.md").read_text().split())
     sentence = re.search(r"trained on it for ([\d,]+) steps .*? blanking them changes nothing "
                          r"\(p = ([\d.]+)\)", text)  # fmt: skip
-    assert sentence, "the README's sentence on the tactile touch actor changed: update this test"
+    assert sentence, "the guide's sentence on the tactile touch actor changed: update this test"
     folder = REPO / "docs/policies/learned_touch_tactile"
     steps = json.loads((folder / "training/summary.json").read_text())["steps"]
     assert int(sentence.group(1).replace(",", "")) == steps
@@ -78,11 +78,11 @@ def test_the_threads_model_table_in_docs_vector_is_its_json() -> None:
 
 
 def test_the_rllib_held_out_figures_in_the_readme_are_its_json() -> None:
-    text = " ".join((REPO / "README.md").read_text().split())
+    text = " ".join((REPO / "docs/guide/environments.md").read_text().split())
     sentence = re.search(r"its best module scores ([\d.]+)-([\d.]+) against random touches' "
                          r"([\d.]+) \(p <= ([\d.e-]+)\), though single validations jump and "
                          r"SB3's SAC actor \(([\d.]+)\) stays ahead", text)  # fmt: skip
-    assert sentence, "the README's sentence on RLlib held out changed: update this test"
+    assert sentence, "the guide's sentence on RLlib held out changed: update this test"
     data = json.loads((REPO / "docs/vector/rllib_heldout.json").read_text())
     rllib = {k: v for k, v in data["runs"].items() if k != "learned"}
     means = [v["mean"] for v in rllib.values()]
@@ -126,11 +126,11 @@ def test_the_vector_speedups_in_the_readme_and_docs_are_the_benchmark() -> None:
     data = json.loads((REPO / "docs/vector/bench.json").read_text())
     speed = {b: {k: round(data[b][k]["speedup"], 2) for k in ("native", "native_plain", "async")}
              for b in ("analytic", "mujoco")}  # fmt: skip
-    readme = " ".join((REPO / "README.md").read_text().split())
+    readme = " ".join((REPO / "docs/guide/environments.md").read_text().split())
     sentence = re.search(r"On 2 cores ([\d.]+)x one environment's steps/s \(analytic\) and "
                          r"([\d.]+)x \(MuJoCo hand\), against Gymnasium's async ([\d.]+)x and "
                          r"([\d.]+)x", readme)  # fmt: skip
-    assert sentence, "the README's sentence on the vector speed changed: update this test"
+    assert sentence, "the guide's sentence on the vector speed changed: update this test"
     assert [float(x) for x in sentence.groups()] == [
         speed["analytic"]["native"], speed["mujoco"]["native"],
         speed["analytic"]["async"], speed["mujoco"]["async"],

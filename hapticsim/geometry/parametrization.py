@@ -26,8 +26,10 @@ def natural(eta: Array, omega: Array, a: Array, eps: Array) -> Array:
     ``chi = (a1 c(eta)^e1 c(omega)^e2, a2 c(eta)^e1 s(omega)^e2, a3 s(eta)^e1)`` with signed powers.
 
     Args:
-        eta, omega: (n,) float angles [rad].
-        a: (3,) semi-axes [m]; eps: (2,) exponents.
+        eta: (n,) float latitudes [rad].
+        omega: (n,) float longitudes [rad].
+        a: (3,) semi-axes [m].
+        eps: (2,) exponents.
 
     Returns:
         (n, 3) float, untapered body-frame surface points [m].

@@ -322,8 +322,8 @@ class Superquadric(Solid):
         """Surface points and outward unit normals in the world frame.
 
         Args:
-            eta: (n,) float latitudes in [-pi/2, pi/2] [rad].
-            omega: (n,) float longitudes in [-pi, pi] [rad].
+            eta: (n,) float latitudes [rad], in (-pi/2, pi/2) or at its ends.
+            omega: (n,) float longitudes [rad], from -pi to pi.
             parametrization: ``"uniform"`` (eq. 6, default) or ``"natural"`` (eq. 1).
 
         Returns:
