@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from hapticsim._cli_bench import add_bench_parser
 from hapticsim._cli_common import (
     EXIT_BAD_INPUT,
     EXIT_INTERRUPTED,
@@ -431,6 +432,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_suite_parser(sub)
     add_policies_parser(sub)
+    add_bench_parser(sub)
     return parser
 
 

@@ -32,6 +32,8 @@ ALLOWED: dict[str, set[str]] = {
     # one trial: explore (a strategy, or a policy in the environment) -> estimate -> score
     "exploration": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs"},
     "experiments": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs"},
+    # the benchmark protocol: runs policies in the environment, reads plug-ins as suites do
+    "bench": {"geometry", "data", "metrics", "fitting", "perception", "sim", "envs", "suites"},
     "suites": {
         "geometry", "data", "metrics", "fitting", "perception", "sim", "envs", "exploration",
         "experiments",

@@ -1,0 +1,137 @@
+"""``hapticsim bench report``: a leaderboard of results files, per task, with paired tests.
+
+For each task, every results file is a row: the policy and estimator, the area under the touch
+curve of IoU, F-score at 2.5 mm, epsilon and Chamfer [mm] (mean and 95 % interval), and the
+final touch's IoU. Rows of one task are compared with its first file (the baseline) by a
+two-sided Wilcoxon signed-rank test of the IoU areas on the seeds both ran (paired). Written as
+Markdown (``leaderboard.md``) and as a page (``index.html``) with the mean IoU curves.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hapticsim.errors import InvalidInputError
+
+#: Columns of the leaderboard: (metric, heading).
+COLUMNS: tuple[tuple[str, str], ...] = (
+    ("iou", "IoU area"), ("f_score_2.5", "F@2.5 mm area"), ("epsilon", "epsilon area"),
+    ("chamfer_mm", "Chamfer area [mm]"),
+)  # fmt: skip
+
+
+def load(path: str | Path) -> dict[str, Any]:
+    """A results file of ``hapticsim bench run`` (one line of error otherwise)."""
+    p = Path(path)
+    try:
+        data = json.loads(p.read_text())
+    except (OSError, ValueError) as exc:
+        raise InvalidInputError(f"cannot read bench results {p}: {exc}") from None
+    if not isinstance(data, dict) or "protocol" not in data or "summary" not in data:
+        raise InvalidInputError(f"{p} is not a results file of `hapticsim bench run`")
+    return data
+
+
+def _cell(summary: dict[str, Any], metric: str) -> str:
+    s = summary[metric]
+    if s["area_mean"] is None:
+        return "-"
+    ci = s["area_ci95"]
+    return f"{s['area_mean']:.3f}" + ("" if ci is None else f" ({ci[0]:.3f}-{ci[1]:.3f})")
+
+
+def _paired_p(base: dict[str, Any], other: dict[str, Any]) -> tuple[float | None, int]:
+    from scipy.stats import wilcoxon
+
+    a = dict(zip(base["seeds"], base["summary"]["iou"]["area"], strict=True))
+    b = dict(zip(other["seeds"], other["summary"]["iou"]["area"], strict=True))
+    common = [s for s in a if s in b and a[s] is not None and b[s] is not None]
+    if len(common) < 2:
+        return None, len(common)
+    d = np.array([b[s] - a[s] for s in common])
+    return (1.0 if not np.any(d) else float(wilcoxon(d).pvalue)), len(common)
+
+
+def leaderboard(results: list[dict[str, Any]]) -> str:
+    """The Markdown leaderboard (module docstring)."""
+    by_task: dict[str, list[dict[str, Any]]] = {}
+    for r in results:
+        by_task.setdefault(r["task"]["name"], []).append(r)
+    lines = [f"# Leaderboard ({results[0]['protocol']})", ""]
+    for task, rows in by_task.items():
+        lines += [f"## {task}", "",
+                  "| policy | estimator | split | episodes | "
+                  + " | ".join(h for _, h in COLUMNS)
+                  + " | final IoU | vs first row: p (paired, n) |",
+                  "|" + "---|" * (len(COLUMNS) + 6)]  # fmt: skip
+        for i, r in enumerate(rows):
+            final = r["summary"]["iou"]["mean_curve"][-1]
+            p, n = _paired_p(rows[0], r) if i else (None, 0)
+            vs = "baseline" if i == 0 else ("-" if p is None else f"{p:.3g} ({n})")
+            cells = " | ".join(_cell(r["summary"], m) for m, _ in COLUMNS)
+            lines.append(f"| {r['policy']} | {r['estimator']} | {r['split']} | "
+                         f"{len(r['seeds'])} | {cells} | {final:.3f} | {vs} |")  # fmt: skip
+        lines.append("")
+    lines.append("Areas: the mean over touches 1..T of each episode's curve, averaged over "
+                 "episodes (95 % t interval); higher is better for IoU and F-score, lower for "
+                 "epsilon and Chamfer.")  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
+def _curves_png(rows: list[dict[str, Any]], task: str) -> bytes:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    for r in rows:
+        curve = r["summary"]["iou"]["mean_curve"]
+        ax.plot(range(1, len(curve) + 1), curve, marker="o", ms=3,
+                label=f"{r['policy']} ({r['estimator']})")  # fmt: skip
+    ax.set_xlabel("touches")
+    ax.set_ylabel("mean IoU")
+    ax.set_title(task)
+    ax.legend(fontsize=8)
+    buf = io.BytesIO()
+    fig.tight_layout()
+    fig.savefig(buf, format="png", dpi=100)
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def write_report(paths: list[str | Path], out: str | Path) -> dict[str, Path]:
+    """Write ``leaderboard.md`` and ``index.html`` in `out` (all or none)."""
+    from hapticsim._files import OutputSet, write_text_atomic
+
+    if not paths:
+        raise InvalidInputError("give at least one results file")
+    results = [load(p) for p in paths]
+    text = leaderboard(results)
+    by_task: dict[str, list[dict[str, Any]]] = {}
+    for r in results:
+        by_task.setdefault(r["task"]["name"], []).append(r)
+    import html as _html
+
+    body = [f"<pre>{_html.escape(text)}</pre>"]
+    for task, rows in by_task.items():
+        png = base64.b64encode(_curves_png(rows, task)).decode()
+        body.append(f'<h2>{_html.escape(task)}</h2><img alt="mean IoU over touches" '
+                    f'src="data:image/png;base64,{png}">')  # fmt: skip
+    page = ("<!doctype html><meta charset='utf-8'><title>hapticsim leaderboard</title>"
+            + "".join(body))  # fmt: skip
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    with OutputSet():
+        files = {"markdown": write_text_atomic(folder / "leaderboard.md", text),
+                 "html": write_text_atomic(folder / "index.html", page)}  # fmt: skip
+    return files
+
+
+__all__ = ["leaderboard", "load", "write_report"]

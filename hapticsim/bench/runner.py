@@ -1,0 +1,208 @@
+"""``hapticsim bench run``: a policy on a task's episodes, every metric after every touch.
+
+After each touch the environment's current estimate (its incremental nH fitter, the
+``"env-nH"`` estimator) is scored against the truth:
+
+- ``iou`` and ``epsilon`` (alpha + beta; 1 before the first fit) by Monte Carlo volumes
+  (:func:`hapticsim.metrics.score`, seed 0);
+- ``chamfer_mm``, ``f_score`` at 1, 2.5 and 5 mm and ``normal_consistency``
+  (:func:`hapticsim.metrics.surface_score`, seed 0);
+- ``wall_s`` and ``cpu_s`` of the touch (the policy's choice and the environment's step).
+
+Each touch's estimate is kept in the results (SPEC §6 JSON), so anyone can score it again. The
+summary holds, per metric, the mean curve over episodes and the area under each episode's
+curve (:func:`hapticsim.metrics.anytime_area`) with its mean and 95 % interval. The file
+carries its manifest (SPEC §14) and is written whole or not at all.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hapticsim.bench.tasks import PROTOCOL, Task, get_task
+from hapticsim.errors import InvalidInputError
+
+#: Estimators the runner knows (a lab's own comes as ``MODULE:ATTR``, not yet: see the docs).
+ESTIMATORS: tuple[str, ...] = ("env-nH",)
+#: Metrics after every touch, in the results' order.
+METRICS: tuple[str, ...] = (
+    "iou", "epsilon", "chamfer_mm", "f_score_1", "f_score_2.5", "f_score_5",
+    "normal_consistency", "wall_s", "cpu_s",
+)  # fmt: skip
+#: What an episode's metrics are before the first fit.
+_NO_FIT = {"iou": 0.0, "epsilon": 1.0, "chamfer_mm": None, "f_score_1": 0.0, "f_score_2.5": 0.0,
+           "f_score_5": 0.0, "normal_consistency": None}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class EpisodeTask:
+    """One episode for a worker (picklable)."""
+
+    task: str
+    policy: str
+    seed: int
+
+    @property
+    def label(self) -> str:
+        """The episode in messages."""
+        return f"{self.task} {self.policy} seed {self.seed}"
+
+
+def touch_metrics(estimate: Any, truth: Any) -> dict[str, Any]:
+    """The quality measures of one estimate (module docstring; None: before the first fit)."""
+    from hapticsim.metrics import score, surface_score
+
+    if estimate is None:
+        return dict(_NO_FIT) | {"chamfer": None, "f_score": {"1": 0.0, "2.5": 0.0, "5": 0.0}}
+    q = score(estimate, truth, rng=0)
+    s = surface_score(estimate, truth, rng=0)
+    f = dict(zip(("f_score_1", "f_score_2.5", "f_score_5"), s.f_score, strict=True))
+    # SPEC §13's keys (chamfer [m], f_score by threshold [mm]) and the flat ones the summary uses
+    return {"iou": q.iou, "epsilon": q.epsilon, "chamfer": s.chamfer,
+            "chamfer_mm": 1000.0 * s.chamfer, "f_score": s.to_dict()["f_score"], **f,
+            "normal_consistency": s.normal_consistency}  # fmt: skip
+
+
+def make_bench_policy(name: str, env: Any, seed: int) -> Any:
+    """A built-in policy by name, or a lab's class ``MODULE:ATTR`` (the baselines' interface)."""
+    from hapticsim.envs.policies import Policy, make_policy
+
+    if ":" in name and not name.startswith("learned:"):
+        from hapticsim.suites.plugins import load_policy
+
+        policy = load_policy(name)(env, rng=seed)
+        if not isinstance(policy, Policy) and hasattr(policy, "reset"):
+            policy.reset(seed)
+        return policy
+    return make_policy(name, env, rng=seed)
+
+
+def run_episode(job: EpisodeTask) -> dict[str, Any]:
+    """One episode of a task (module-level: the executor maps it)."""
+    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+    from hapticsim.envs.policies import Policy
+
+    task = get_task(job.task)
+    kwargs = task.env_kwargs()
+    env = v0_class(kwargs["sensing"])(**kwargs)
+    try:
+        policy = make_bench_policy(job.policy, env, job.seed)
+        obs, _ = env.reset(seed=job.seed)
+        if isinstance(policy, Policy):
+            policy.reset(job.seed)
+        touches, done = [], False
+        while not done:
+            wall, cpu = time.perf_counter(), time.process_time()
+            action = np.asarray(policy(obs), dtype=np.float32)
+            if action.shape != env.action_space.shape or not np.all(np.isfinite(action)):
+                raise InvalidInputError(
+                    f"the policy {job.policy} returned {action.shape} action with non-finite "
+                    f"or missing values (expected {env.action_space.shape}, finite)"
+                )
+            obs, _, terminated, truncated, info = env.step(action)
+            row = {"wall_s": time.perf_counter() - wall, "cpu_s": time.process_time() - cpu}
+            estimate = env.estimate
+            row |= touch_metrics(estimate, env.truth)
+            row["contacts"] = int(info["n_contacts"])
+            row["estimate"] = None if estimate is None else estimate.to_dict()
+            touches.append(row)
+            done = terminated or truncated
+        truth = env.truth.to_dict() if env.truth.kind != "mesh" else None
+    finally:
+        env.close()
+    return {"seed": job.seed, "truth": truth, "touches": touches}
+
+
+def _summary(episodes: list[dict[str, Any]]) -> dict[str, Any]:
+    """Per metric: the mean curve over episodes, each episode's area under its curve, and the
+    areas' mean with a 95 % interval (t distribution)."""
+    from scipy import stats
+
+    from hapticsim.metrics import anytime_area
+
+    out: dict[str, Any] = {}
+    for metric in METRICS:
+        curves = []
+        for e in episodes:
+            values = [t[metric] for t in e["touches"]]
+            if any(v is None for v in values):  # before the first fit: no distance yet
+                values = [np.nan if v is None else v for v in values]
+            curves.append(values)
+        arr = np.asarray(curves, dtype=float)
+        areas = [anytime_area(c[~np.isnan(c)]) if np.any(~np.isnan(c)) else None for c in arr]
+        valid = np.array([a for a in areas if a is not None], dtype=float)
+        mean = float(valid.mean()) if len(valid) else None
+        half = (float(stats.t.ppf(0.975, len(valid) - 1) * valid.std(ddof=1) / np.sqrt(len(valid)))
+                if len(valid) > 1 else None)  # fmt: skip
+        out[metric] = {
+            "mean_curve": [None if np.all(np.isnan(col)) else float(np.nanmean(col))
+                           for col in arr.T],  # fmt: skip
+            "area": areas, "area_mean": mean,
+            "area_ci95": None if half is None else [mean - half, mean + half],
+        }  # fmt: skip
+    return out
+
+
+def run_bench(
+    task: str, policy: str, episodes: int, estimator: str = "env-nH", split: str = "test",
+    workers: int | None = 1, scheduler: str | None = None, progress: bool = True,
+    command: list[str] | None = None,
+) -> dict[str, Any]:  # fmt: skip
+    """Run `policy` on `episodes` episodes of `task`'s split; the results (module docstring).
+
+    Raises:
+        InvalidInputError: an unknown task, estimator or split, a policy that cannot be made
+            (an unknown name, a plug-in that does not import), or one that returns a bad
+            action (all checked before a file is written).
+    """
+    from hapticsim.parallel import parallel_map
+    from hapticsim.suites.provenance import manifest
+
+    spec: Task = get_task(task)
+    if estimator not in ESTIMATORS:
+        raise InvalidInputError(
+            f"`estimator` must be one of {', '.join(ESTIMATORS)} (the environment's own nH "
+            f"fit; other estimators are not in this protocol version yet), got {estimator!r}"
+        )
+    seeds = spec.seeds(split, episodes)
+    _check_policy(policy, spec)
+    jobs = [EpisodeTask(task, policy, s) for s in seeds]
+    start = time.perf_counter()
+    rows = parallel_map(run_episode, jobs, workers=None if scheduler else workers,
+                        desc=f"bench {task}", progress=progress, names=lambda j: j.label,
+                        unit="episode", scheduler=scheduler)  # fmt: skip
+    return {
+        "protocol": PROTOCOL, "task": spec.to_dict(), "policy": policy, "estimator": estimator,
+        "split": split, "seeds": seeds, "metrics": list(METRICS),
+        "f_score_thresholds_mm": [1.0, 2.5, 5.0], "episodes": rows,
+        "summary": _summary(rows), "seconds": time.perf_counter() - start,
+        "manifest": manifest(command),
+    }  # fmt: skip
+
+
+def _check_policy(policy: str, task: Task) -> None:
+    """Make the policy once on the task's environment (bad names and plug-ins fail here)."""
+    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+
+    kwargs = task.env_kwargs() | {"backend": "analytic"}
+    env = v0_class(kwargs["sensing"])(**kwargs)
+    try:
+        make_bench_policy(policy, env, 0)
+    finally:
+        env.close()
+
+
+def write_results(results: dict[str, Any], path: str | Path) -> Path:
+    """Write results as JSON through a temporary file and a rename."""
+    from hapticsim._files import write_json
+
+    return write_json(path, results)
+
+
+__all__ = ["ESTIMATORS", "METRICS", "run_bench", "run_episode", "touch_metrics",
+           "write_results"]  # fmt: skip

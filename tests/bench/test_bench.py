@@ -1,0 +1,108 @@
+"""The benchmark protocol: tasks and splits, a run's per-touch metrics, the leaderboard, bad
+input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hapticsim.bench import get_task, task_names
+from hapticsim.bench.report import leaderboard, write_report
+from hapticsim.bench.runner import METRICS, run_bench
+from hapticsim.cli import main
+from hapticsim.errors import InvalidInputError
+from hapticsim.geometry import solid_from_dict
+
+
+def test_tasks_are_named_and_their_splits_fixed() -> None:
+    names = task_names()
+    assert len(names) == len(set(names)) == 36 and "paper/exact/analytic/t20" in names
+    task = get_task("random/vision/mujoco/t50")
+    assert task.name == "random/vision/mujoco/t50"
+    assert task.env_kwargs()["skin"] == "vision" and task.env_kwargs()["touch_budget"] == 50
+    dev, test = task.seeds("dev", 30), task.seeds("test", 30)
+    assert dev == get_task("paper/exact/analytic/t20").seeds("dev", 30)  # every family alike
+    assert not set(dev) & set(test) and test == task.seeds("test", 30)
+    with pytest.raises(InvalidInputError, match="did you mean 'paper/exact/analytic/t20'"):
+        get_task("paper/exact/analytic/t2")
+    with pytest.raises(InvalidInputError, match="split"):
+        task.seeds("train", 3)
+
+
+@pytest.fixture(scope="module")
+def results() -> dict:
+    return run_bench("paper/exact/analytic/t20", "uncertainty", 2, workers=1, progress=False)
+
+
+def test_a_run_scores_every_touch_and_agrees_with_an_independent_score(results: dict) -> None:
+    from hapticsim.metrics import surface_score, volume_overlap
+
+    assert results["protocol"] == "hapticsim-bench/1" and results["seeds"] == [1_000_000,
+                                                                                 1_000_001]
+    assert {"command", "git", "machine", "packages", "date"} <= set(results["manifest"])
+    diffs_iou, diffs_f = [], []
+    for episode in results["episodes"]:
+        touches = episode["touches"]
+        assert len(touches) == 20 and set(METRICS) <= set(touches[0])
+        truth = solid_from_dict(episode["truth"])
+        for row in touches[::5]:
+            if row["estimate"] is None:
+                assert row["iou"] == 0.0 and row["epsilon"] == 1.0
+                continue
+            estimate = solid_from_dict(row["estimate"])
+            # other seeds, more samples: the bench's own sampling error is what differs
+            # (IoU: 100 000 points, std <= 0.002; F-score: 5 000 surface points, std <= 0.007)
+            overlap = volume_overlap(estimate, truth, samples=200_000, rng=99)
+            surface = surface_score(estimate, truth, samples=20_000, rng=99)
+            diffs_iou.append(abs(row["iou"] - overlap.iou))
+            diffs_f.append(abs(row["f_score_2.5"] - surface.f_score[1]))
+    assert diffs_iou and np.mean(diffs_iou) <= 0.01 and max(diffs_iou) <= 0.02
+    assert np.mean(diffs_f) <= 0.01 and max(diffs_f) <= 0.03
+    s = results["summary"]["iou"]
+    assert len(s["mean_curve"]) == 20 and len(s["area"]) == 2
+    assert s["area_ci95"][0] <= s["area_mean"] <= s["area_ci95"][1]
+
+
+def test_the_leaderboard_pairs_results_on_their_seeds(results: dict, tmp_path: Path) -> None:
+    text = leaderboard([results, results])
+    assert "## paper/exact/analytic/t20" in text and "| uncertainty | env-nH | test | 2 |" in text
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    a.write_text(json.dumps(results))
+    b.write_text(json.dumps(results))
+    files = write_report([a, b], tmp_path / "board")
+    assert files["markdown"].read_text() == leaderboard([results, results])
+    assert "data:image/png;base64," in files["html"].read_text()
+
+
+def test_bad_input_is_one_line_and_no_file(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    out = tmp_path / "r.json"
+    cases = [
+        (["bench", "run", "nope/exact/analytic/t20", "--policy", "random"], "unknown task"),
+        (["bench", "run", "paper/exact/analytic/t20", "--policy", "no_such_lab:Policy"],
+         "no_such_lab"),
+        (["bench", "run", "paper/exact/analytic/t20", "--policy", "random", "--estimator",
+          "gpis"], "estimator"),
+        (["bench", "run", "paper/exact/analytic/t20", "--policy",
+          "tests.bench.test_bench:NanPolicy", "--episodes", "1", "--workers", "1"], "non-finite"),
+    ]  # fmt: skip
+    for argv, words in cases:
+        assert main([*argv, "--out", str(out), "--quiet"] if argv[1] == "run" else argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and words in err[0], err
+        assert not out.exists()
+
+
+class NanPolicy:
+    """A lab's policy that returns NaN (for the bad-input test)."""
+
+    def __init__(self, env: object, rng: object = None) -> None:
+        self.shape = env.action_space.shape  # type: ignore[attr-defined]
+
+    def reset(self, rng: object = None) -> None:  # noqa: D102
+        pass
+
+    def __call__(self, obs: object) -> np.ndarray:
+        return np.full(self.shape, np.nan, np.float32)
