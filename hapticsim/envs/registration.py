@@ -68,6 +68,16 @@ HAPTIC_EXPLORE_TOUCH_TACTILE_ENTRY_POINT: str = (
 )
 
 
+#: Id of the ap_gym active perception task (extra ``apgym``).
+SHAPE_BY_TOUCH_ID: str = "hapticsim/ShapeByTouch-v0"
+#: Its entry point.
+SHAPE_BY_TOUCH_ENTRY_POINT: str = "hapticsim.envs.shape_by_touch_v0:make_shape_by_touch"
+#: Its vector entry point.
+SHAPE_BY_TOUCH_VECTOR_ENTRY_POINT: str = (
+    "hapticsim.envs.shape_by_touch_v0:make_shape_by_touch_vec"
+)
+
+
 def canonical_id(env_id: str) -> str:
     """The id an environment id stands for today (a renamed id gives its new name)."""
     return RENAMED_IDS.get(env_id, env_id)
@@ -98,8 +108,8 @@ def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: 
 
 def register_envs() -> None:
     """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0``,
-    ``hapticsim/HapticExploreTactile-v0``, ``hapticsim/HapticExploreTouch-v0`` and
-    ``hapticsim/HapticExploreTouchTactile-v0``, and the
+    ``hapticsim/HapticExploreTactile-v0``, ``hapticsim/HapticExploreTouch-v0``,
+    ``hapticsim/HapticExploreTouchTactile-v0`` and ``hapticsim/ShapeByTouch-v0``, and the
     renamed ids (:data:`RENAMED_IDS`); calling
     it again does nothing."""
 
@@ -125,3 +135,7 @@ def register_envs() -> None:
             id=env_id, entry_point=entry_point, max_episode_steps=None, disable_env_checker=False,
             vector_entry_point=partial(make_vector_env, env_id),
         )  # fmt: skip
+    if SHAPE_BY_TOUCH_ID not in registry:  # ap_gym's own vector env (its loss every step)
+        register(id=SHAPE_BY_TOUCH_ID, entry_point=SHAPE_BY_TOUCH_ENTRY_POINT,
+                 max_episode_steps=None, disable_env_checker=False,
+                 vector_entry_point=SHAPE_BY_TOUCH_VECTOR_ENTRY_POINT)  # fmt: skip
