@@ -375,6 +375,10 @@ class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarr
     - v0: initial version (:class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv`).
     """
 
+    #: As the core's (a class attribute: Gymnasium checks an entry point's metadata before
+    #: making it).
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
+
     def __init__(
         self,
         env: HapticExploreEnv | None = None,
