@@ -350,7 +350,7 @@ def main(argv: list[str] | None = None) -> int:
         model = make_model(args, vec)
         run.log(f"started {args.algo}: {command}")
     trained_id = env_id(args)
-    val_env = gym.make(trained_id, **env_kwargs(args)).unwrapped
+    val_env = gym.make(trained_id, **env_kwargs(args))  # the variant: a wrapper of the core
     settings = recorded_settings(
         val_env, objects=args.objects, reward=args.reward, coverage_weight=args.coverage_weight
     )
