@@ -41,8 +41,16 @@ def _cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_record(args: argparse.Namespace) -> int:
+    from hapticsim.bench.record import record_dataset
+
+    _print_json(record_dataset(args.task, args.policy, args.episodes, args.dataset,
+                               split=args.split, root=args.root, progress=not args.quiet))
+    return 0
+
+
 def add_bench_parser(sub: Any) -> None:
-    """``hapticsim bench tasks | run | report`` (SPEC §13)."""
+    """``hapticsim bench tasks | run | record | report`` (SPEC §13)."""
     bench = sub.add_parser("bench", help="the benchmark protocol: tasks, runs, a leaderboard")
     cmds = bench.add_subparsers(dest="bench_command", required=True, parser_class=_Parser)
     p = cmds.add_parser("tasks", help="list the tasks, one per line")
@@ -61,6 +69,17 @@ def add_bench_parser(sub: Any) -> None:
     p.add_argument("--scheduler", default=None, help="a Dask cluster (tcp://host:port or local:N)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_run)
+    p = cmds.add_parser("record", help="a policy's episodes of a task as a Minari dataset "
+                        "(extra minari)")  # fmt: skip
+    p.add_argument("task", help="FAMILY/SENSING/BACKEND/tTOUCHES (`hapticsim bench tasks`)")
+    p.add_argument("--policy", required=True, help="a policy name or MODULE:ATTR")
+    p.add_argument("--episodes", type=_positive_int, default=100)
+    p.add_argument("--dataset", required=True, help="Minari's id, NAMESPACE/NAME-vN")
+    p.add_argument("--split", choices=("dev", "test"), default="test")
+    p.add_argument("--root", default=None, help="the datasets folder (default: Minari's, "
+                   "MINARI_DATASETS_PATH)")  # fmt: skip
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=_cmd_record)
     p = cmds.add_parser("report", help="a leaderboard of results files (Markdown and HTML)")
     p.add_argument("results", nargs="+", help="results files of `hapticsim bench run`")
     p.add_argument("--out", required=True, help="folder for leaderboard.md and index.html")

@@ -198,10 +198,13 @@ def _check_policy(policy: str, task: Task) -> None:
 
 
 def write_results(results: dict[str, Any], path: str | Path) -> Path:
-    """Write results as JSON through a temporary file and a rename."""
-    from hapticsim._files import write_json
+    """Write results as compact JSON (a file holds every touch's estimate) through a temporary
+    file and a rename."""
+    import json
 
-    return write_json(path, results)
+    from hapticsim._files import write_text_atomic
+
+    return write_text_atomic(path, json.dumps(results, separators=(",", ":")) + "\n")
 
 
 __all__ = ["ESTIMATORS", "METRICS", "run_bench", "run_episode", "touch_metrics",
