@@ -184,10 +184,12 @@ def manifest(command: list[str] | None = None) -> dict[str, Any]:
         packages["torch"] = metadata.version("torch")
     except metadata.PackageNotFoundError:
         pass
+    git = git_state()
     return {
         "command": command,
         "hapticsim": __version__,
-        "git": git_state(),
+        "commit": None if git is None else git["commit"],
+        "git": git,
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "machine": machine(),
         "packages": packages,
