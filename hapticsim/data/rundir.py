@@ -28,7 +28,7 @@ import numpy as np
 
 from hapticsim._files import OutputSet, read_json, write_bytes_atomic, write_json
 from hapticsim.data.io import Contacts, read_contacts, write_contacts
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import Solid, solid_from_dict, solid_from_json
 
 #: Files every run directory holds (the truth is either of TRUTH_FILES).
@@ -176,9 +176,7 @@ def write_run(
         kinds of `files`).
     """
     if truth_file[0] not in TRUTH_FILES:
-        raise InvalidInputError(
-            f"the truth's file must be one of {TRUTH_FILES}, got {truth_file[0]!r}"
-        )
+        raise ChoiceError("truth_file", truth_file[0], TRUTH_FILES)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     with OutputSet():

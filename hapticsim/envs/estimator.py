@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.errors import HapticsimError, InvalidInputError
+from hapticsim.errors import ChoiceError, HapticsimError, InvalidInputError
 from hapticsim.geometry import N_PARAMS, Superquadric
 from hapticsim.geometry.eof import contact_residuals
 from hapticsim.geometry.solid import Solid
@@ -75,9 +75,7 @@ class FitSchedule:
     def __post_init__(self) -> None:
         for name in ("method", "refine_method"):
             if getattr(self, name) not in _METHODS:
-                raise InvalidInputError(
-                    f"`{name}` must be one of {_METHODS}, got {getattr(self, name)!r}"
-                )
+                raise ChoiceError(name, getattr(self, name), _METHODS)
         if self.refine_method == "multi":
             raise InvalidInputError("`refine_method` must fit one superquadric, not 'multi'")
         if isinstance(self.full_every, bool) or int(self.full_every) < 1:

@@ -43,7 +43,6 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import did_you_mean
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.envs import haptic_explore_compact_v0 as v1
 from hapticsim.envs import haptic_explore_touch_v0 as touch_env
@@ -544,10 +543,7 @@ def check_policy_name(name: Any) -> str:
         name in POLICIES or (name.startswith(LEARNED_PREFIX) and len(name) > len(LEARNED_PREFIX))
     ):
         return name
-    raise InvalidInputError(
-        f"`policy` must be one of {POLICY_NAMES} or '{LEARNED_PREFIX}PATH' (a weight file), got "
-        f"{name!r}{did_you_mean(name, POLICY_NAMES)}"
-    )
+    raise ChoiceError("policy", name, POLICY_NAMES, f"or '{LEARNED_PREFIX}PATH' (a weight file)")
 
 
 def make_policy(name: str, env: Any, rng: np.random.Generator | int | None = None) -> Policy:

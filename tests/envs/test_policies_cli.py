@@ -71,7 +71,7 @@ def test_same_seed_same_objects_for_every_policy_and_any_worker_count(tmp_path) 
     ("args", "message"),
     [
         (["--policy", "greedy"],
-         "'information', 'learned', 'learned-touch') or 'learned:PATH'"),
+         "information, learned, learned-touch or 'learned:PATH'"),
         (["--policy", "learned:/no/such/file.npz"], "does not exist"),
         (["--policy", "random", "--episodes", "0"], "--episodes: must be an integer >= 1"),
         (["--policy", "random", "--objects", "cubes"], "invalid choice: 'cubes'"),

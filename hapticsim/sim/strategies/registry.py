@@ -12,8 +12,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from hapticsim._validate import did_you_mean
-from hapticsim.errors import InvalidInputError
+from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.sim.explorer import Explorer
 
 Strategy = Callable[[Explorer, int, np.random.Generator], None]
@@ -47,10 +46,7 @@ def get_strategy(name: str) -> Strategy:
         InvalidInputError: unknown name; the message lists the choices.
     """
     if not isinstance(name, str) or name not in _REGISTRY:
-        raise InvalidInputError(
-            f"`strategy` must be one of {', '.join(strategy_names())}, got {name!r}"
-            f"{did_you_mean(name, strategy_names())}"
-        )
+        raise ChoiceError("strategy", name, strategy_names())
     return _REGISTRY[name]
 
 
