@@ -15,8 +15,6 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from hapticsim.bench.tasks import PROTOCOL, get_task
 from hapticsim.errors import InvalidInputError
 
@@ -71,7 +69,7 @@ def record_dataset(
     import warnings
 
     from hapticsim._version import __version__
-    from hapticsim.bench.runner import make_bench_policy
+    from hapticsim.bench.runner import checked_action, make_bench_policy
     from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
     from hapticsim.envs.policies import Policy
     from hapticsim.suites.provenance import git_state
@@ -101,9 +99,7 @@ def record_dataset(
                     agent.reset(seed)
                 done = False
                 while not done:
-                    action = np.asarray(agent(obs), dtype=np.float32)
-                    if not np.all(np.isfinite(action)):
-                        raise InvalidInputError(f"the policy {policy} returned a non-finite action")
+                    action = checked_action(policy, agent(obs), env.action_space.shape)
                     obs, _, terminated, truncated, _ = collector.step(action)
                     done, steps = terminated or truncated, steps + 1
                 if progress and ((i + 1) % 10 == 0 or i + 1 == len(seeds)):

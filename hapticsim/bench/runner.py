@@ -70,16 +70,23 @@ def touch_metrics(estimate: Any, truth: Any) -> dict[str, Any]:
 
 def make_bench_policy(name: str, env: Any, seed: int) -> Any:
     """A built-in policy by name, or a lab's class ``MODULE:ATTR`` (the baselines' interface)."""
-    from hapticsim.envs.policies import Policy, make_policy
+    from hapticsim.envs.policies import LEARNED_PREFIX, make_policy
+    from hapticsim.suites.plugins import make_plugin_policy
 
-    if ":" in name and not name.startswith("learned:"):
-        from hapticsim.suites.plugins import load_policy
-
-        policy = load_policy(name)(env, rng=seed)
-        if not isinstance(policy, Policy) and hasattr(policy, "reset"):
-            policy.reset(seed)
-        return policy
+    if ":" in name and not name.startswith(LEARNED_PREFIX):
+        return make_plugin_policy(name, env, seed)
     return make_policy(name, env, rng=seed)
+
+
+def checked_action(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """A policy's action as float32 of `shape`, finite (else one line naming the policy)."""
+    action = np.asarray(value, dtype=np.float32)
+    if action.shape != shape or not np.all(np.isfinite(action)):
+        raise InvalidInputError(
+            f"the policy {name} returned {action.shape} action with non-finite or missing values "
+            f"(expected {shape}, finite)"
+        )
+    return action
 
 
 def run_episode(job: EpisodeTask) -> dict[str, Any]:
@@ -98,12 +105,7 @@ def run_episode(job: EpisodeTask) -> dict[str, Any]:
         touches, done = [], False
         while not done:
             wall, cpu = time.perf_counter(), time.process_time()
-            action = np.asarray(policy(obs), dtype=np.float32)
-            if action.shape != env.action_space.shape or not np.all(np.isfinite(action)):
-                raise InvalidInputError(
-                    f"the policy {job.policy} returned {action.shape} action with non-finite "
-                    f"or missing values (expected {env.action_space.shape}, finite)"
-                )
+            action = checked_action(job.policy, policy(obs), env.action_space.shape)
             obs, _, terminated, truncated, info = env.step(action)
             row = {"wall_s": time.perf_counter() - wall, "cpu_s": time.process_time() - cpu}
             estimate = env.estimate

@@ -61,6 +61,20 @@ def shape_target(shape: Any, obs_scale: float) -> np.ndarray:
     return np.clip(np.concatenate([a, eps]), -1.0, 1.0).astype(np.float32)
 
 
+_BLIND: dict[tuple[str, float], np.ndarray] = {}
+
+
+def _blind_targets(kind: str, objects: Any, obs_scale: float) -> np.ndarray:
+    """(BLIND_DRAWS, 5) targets of the family's objects (seeded; drawn once per family and
+    scale, so a vector environment's copies share them)."""
+    key = (kind, float(obs_scale))
+    if key not in _BLIND:
+        draws = np.random.default_rng(12345)
+        _BLIND[key] = np.stack([shape_target(objects.sample(draws), obs_scale)
+                                for _ in range(BLIND_DRAWS)])  # fmt: skip
+    return _BLIND[key]
+
+
 def make_shape_by_touch(render_mode: str | None = None, **kwargs: Any) -> Any:
     """The environment (the entry point of ``hapticsim/ShapeByTouch-v0``; keyword arguments as
     ``HapticExploreCompact-v0``'s).
@@ -172,9 +186,7 @@ if ap_gym is not None:
             self.prediction_target_space = box
             core = self.inner.unwrapped
             self._scale = core.config.obs_scale
-            draws = np.random.default_rng(12345)
-            targets = np.stack([shape_target(core.config.objects.sample(draws), self._scale)
-                                for _ in range(BLIND_DRAWS)])  # fmt: skip
+            targets = _blind_targets(objects, core.config.objects, self._scale)
             self.loss_fn = ap_gym.MSELossFn.from_data(targets).normalized
             #: (5,) float32, the blind guess: the targets' mean (its loss is 1 on average).
             self.blind_guess = targets.mean(axis=0).astype(np.float32)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -87,7 +87,6 @@ class TrialRecord:
     accuracy_exact: dict[str, Any] | None = None
     fit_seconds: float = 0.0
     seconds: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict)
 
     def metrics(self) -> dict[str, Any]:
         """The estimate's quality measures (:func:`quality_metrics`)."""

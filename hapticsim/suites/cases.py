@@ -22,7 +22,7 @@ import numpy as np
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry import random_rotation
 from hapticsim.parallel import key_of, seed_sequence
-from hapticsim.suites.plugins import as_solid, load_fitter, load_policy
+from hapticsim.suites.plugins import as_solid, load_fitter, load_policy, make_plugin_policy
 from hapticsim.suites.suite import Case
 
 #: Quality measures of every case (SPEC §4), in table order.
@@ -229,13 +229,9 @@ def _run_policy(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any
 
 
 def _plugin_policy(spec: str, env: Any, seed: int) -> Any:
-    from hapticsim.envs.policies import Policy
-
-    cls = load_policy(spec)
+    load_policy(spec)  # bad input (an import, a signature) is the run's, not the case's
     try:
-        policy = cls(env, rng=seed)
-        if not isinstance(policy, Policy) and hasattr(policy, "reset"):
-            policy.reset(seed)  # run_episode resets only Policy subclasses
+        policy = make_plugin_policy(spec, env, seed)
     except Exception as exc:  # noqa: BLE001
         detail = " ".join(str(exc).split())
         raise _PluginError(f"the policy {spec} raised {type(exc).__name__}: {detail}") from None

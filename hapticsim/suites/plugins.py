@@ -118,6 +118,22 @@ def load_policy(spec: str) -> type:
     return cls
 
 
+def make_plugin_policy(spec: str, env: Any, seed: int) -> Any:
+    """A lab's policy ``MODULE:CLASS`` made for `env` with `seed`, and reset with it where it is
+    not a :class:`~hapticsim.envs.policies.Policy` (whose episodes reset it themselves).
+
+    Raises:
+        InvalidInputError: see :func:`load_policy`; what its constructor or reset raises passes
+            through.
+    """
+    from hapticsim.envs.policies import Policy
+
+    policy = load_policy(spec)(env, rng=seed)
+    if not isinstance(policy, Policy) and hasattr(policy, "reset"):
+        policy.reset(seed)
+    return policy
+
+
 def describe(spec: str | None, option: str) -> dict[str, Any] | None:
     """Provenance of a plug-in: its spec, module file and the file's SHA-256 (None if none)."""
     if spec is None:
