@@ -20,7 +20,6 @@ Used by :class:`~hapticsim.geometry.superquadric.Superquadric`'s sampling method
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -199,14 +198,19 @@ class SurfaceMesh:
         return np.where(np.isfinite(dist), dist, np.inf).reshape(-1, k).min(axis=1)
 
 
-#: The surface meshes of superquadrics seen, per resolution (they go with their superquadric).
-_SURFACES: weakref.WeakKeyDictionary[Any, dict[int, SurfaceMesh]] = weakref.WeakKeyDictionary()
+#: The attribute of a superquadric under which its surface meshes are kept, per resolution.
+#: They live in the superquadric's own ``__dict__`` and go with it: a weak-key table whose values
+#: held their key (a :class:`SurfaceMesh` keeps its superquadric) never freed either.
+_SURFACES_ATTRIBUTE = "_surface_meshes"
 
 
 def surface_mesh_of(sq: Any, resolution: int) -> SurfaceMesh:
     """The :class:`SurfaceMesh` of `sq` at `resolution`, built once per superquadric object."""
     res = positive_int(resolution, "resolution", minimum=8)
-    meshes = _SURFACES.setdefault(sq, {})
+    meshes = sq.__dict__.get(_SURFACES_ATTRIBUTE)
+    if meshes is None:
+        meshes = {}
+        object.__setattr__(sq, _SURFACES_ATTRIBUTE, meshes)  # a frozen dataclass's cache
     mesh = meshes.get(res)
     if mesh is None:
         mesh = meshes[res] = SurfaceMesh(sq, res)

@@ -259,6 +259,12 @@ class Superquadric(Solid):
     def __hash__(self) -> int:
         return hash(self.to_vector().tobytes())
 
+    def __getstate__(self) -> dict[str, Any]:
+        """Its parameters alone: the surface meshes it keeps once asked for
+        (:func:`hapticsim.geometry.sampling.surface_mesh_of`) are made again where needed, not
+        sent to another process."""
+        return {k: v for k, v in self.__dict__.items() if not k.startswith("_")}
+
     def __repr__(self) -> str:
         f = np.array2string
         return (
