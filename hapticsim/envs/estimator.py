@@ -200,7 +200,9 @@ class IncrementalFitter:
             )  # fmt: skip
         if full:
             self._touches_since_full = 0
-        self.estimate = result.superquadric
+        # the observation's superquadric: the estimate, or multi's one-part baseline
+        kept = result if result.selection is None else result.selection.baseline
+        self.estimate = kept.superquadric
         # multi's union stays until its next full fit; a single superquadric is its own solid
         if full or sched.method != "multi":
             self.solid = result.solid

@@ -16,12 +16,14 @@ One algorithm per module, like ``scipy.optimize._lsq``:
 - :mod:`~hapticsim.fitting.problem`: the residual vector the compiled solvers minimise, the
   paper's EOF or nML's (dispatch in :mod:`~hapticsim.fitting._problem_compiled`);
 - :mod:`~hapticsim.fitting.methods`: method names and the default budget;
-- :mod:`~hapticsim.fitting.result`: :class:`FitResult`.
+- :mod:`~hapticsim.fitting.result`: :class:`FitResult` (and multi's :class:`PartSelection`).
 """
 
 from hapticsim.fitting.driver import fit
 from hapticsim.fitting.methods import DEFAULT_BUDGET, FIT_METHODS, METHODS
 from hapticsim.fitting.ml import MLOptions
-from hapticsim.fitting.result import FitResult
+from hapticsim.fitting.result import FitResult, PartSelection
 
-__all__ = ["DEFAULT_BUDGET", "FIT_METHODS", "METHODS", "FitResult", "MLOptions", "fit"]
+__all__ = [
+    "DEFAULT_BUDGET", "FIT_METHODS", "METHODS", "FitResult", "MLOptions", "PartSelection", "fit",
+]

@@ -34,7 +34,7 @@ from hapticsim.fitting.methods import (
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.multi import multi_search
 from hapticsim.fitting.objective import Objective
-from hapticsim.fitting.result import FitResult
+from hapticsim.fitting.result import FitResult, PartSelection
 from hapticsim.fitting.uncertainty import laplace
 from hapticsim.geometry.eof import DISTANCES, ContactSet
 from hapticsim.geometry.superquadric import N_PARAMS, Superquadric, superquadric_arg
@@ -190,7 +190,7 @@ def fit(
         return _fit_multi(pts, nrm, n_evals, gen, weight, warm, distance, noise_level, free_pts,
                           part_count, start)  # fmt: skip
     if method == "gpis":
-        return _fit_gpis(pts, nrm, n_evals, gen, weight, warm, distance, start)
+        return _fit_gpis(pts, nrm, start)
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
     run = None
@@ -222,7 +222,7 @@ def fit(
         posterior = laplace(Superquadric.from_vector(best), pts, data_normals, weight,
                             DEFAULT_DISTANCE if ml else distance)  # fmt: skip
     return FitResult(
-        superquadric=Superquadric.from_vector(best),
+        solid=Superquadric.from_vector(best),
         method=method,
         eof=eof,
         evaluations=evaluations,
@@ -258,57 +258,60 @@ def _fit_multi(
     warm: Superquadric | None, distance: str, noise: float | None, free: Array | None,
     parts: int | None, start: float,
 ) -> FitResult:  # fmt: skip
-    """multi: nH's one-part fit, then :func:`~hapticsim.fitting.multi.multi_search`."""
+    """multi: nH's one-part fit (the selection's baseline), then
+    :func:`~hapticsim.fitting.multi.multi_search`."""
 
     single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)
     if parts == 1:
-        vectors, selection = [single.superquadric.to_vector()], {
+        vectors, record = [single.superquadric.to_vector()], {
             "parts": 1, "criterion": "one part asked for", "candidates": []}  # fmt: skip
     else:
         def part_fit(p: Array, n: Array, evals: int, rng: np.random.Generator) -> FitResult:
             return fit(p, n, "nH", evals, rng, lam)
 
-        vectors, selection = multi_search(pts, nrm, single.superquadric, gen, part_fit, parts,
-                                          noise, free)  # fmt: skip
+        vectors, record = multi_search(pts, nrm, single.superquadric, gen, part_fit, parts,
+                                       noise, free)  # fmt: skip
     shapes = (  # one part: nH's own superquadric, not its round trip through a vector
         (single.superquadric,) if len(vectors) == 1
         else tuple(Superquadric.from_vector(v) for v in vectors)
     )  # fmt: skip
     contacts = ContactSet.from_arrays(pts, nrm)
     r = contacts.residuals(np.array(vectors), lam, tapered=False)  # the parts' SPEC EOF terms
+    selection = PartSelection(
+        parts=int(record["parts"]), criterion=record["criterion"],
+        candidates=tuple(record["candidates"]), baseline=single,
+        sigma_distance=record.get("sigma_distance"), sigma_normal=record.get("sigma_normal"),
+    )  # fmt: skip
     return FitResult(
-        superquadric=single.superquadric,
+        solid=SuperquadricUnion(shapes),
         method="multi",
         eof=float(np.mean(np.min(r**2, axis=0))),
-        evaluations=single.evaluations + int(selection.pop("evaluations", 0)),
+        evaluations=single.evaluations + int(record.get("evaluations", 0)),
         seconds=time.perf_counter() - start,
         history=single.history,
         status=single.status,
-        message=f"{len(shapes)} part(s) by {selection['criterion']}",
-        solid=SuperquadricUnion(shapes),
+        message=f"{len(shapes)} part(s) by {selection.criterion}",
         selection=selection,
     )
 
 
-def _fit_gpis(
-    pts: Array, nrm: Array, budget: int, gen: np.random.Generator, lam: float,
-    warm: Superquadric | None, distance: str, start: float,
-) -> FitResult:  # fmt: skip
-    """gpis: :func:`~hapticsim.fitting.gpis.fit_gpis`'s mesh, beside nH's one-part fit."""
+def _fit_gpis(pts: Array, nrm: Array, start: float) -> FitResult:
+    """gpis: :func:`~hapticsim.fitting.gpis.fit_gpis`'s mesh alone. Its EOF is the contacts'
+    mean squared distance to the mesh; it evaluates no superquadric EOF."""
 
-    surface = fit_gpis(pts, nrm)  # first: a missing scikit-image costs no nH fit
-    single = fit(pts, nrm, "nH", budget, gen, lam, warm, distance)
+    surface = fit_gpis(pts, nrm)
+    distance = surface.solid.surface_distance(pts)
+    converged = surface.info.get("converged", True)
     return FitResult(
-        superquadric=single.superquadric,
+        solid=surface.solid,
         method="gpis",
-        eof=single.eof,
-        evaluations=single.evaluations,
+        eof=float(np.mean(distance**2)),
+        evaluations=0,
         seconds=time.perf_counter() - start,
-        history=single.history,
-        status=single.status,
+        history=(np.zeros(0, np.int64), np.zeros(0)),
+        status="converged" if converged else "iterations",
         message=(f"zero level set of a GPIS (length scale {1e3 * surface.length_scale:.1f} mm), "
                  f"{len(surface.solid.faces)} faces"),
-        solid=surface.solid,
         model=surface.to_dict(),
     )  # fmt: skip
 

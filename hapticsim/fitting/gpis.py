@@ -174,7 +174,8 @@ def fit_gpis(
         solid=solid, length_scale=float(length * radius), value_noise=float(nv * radius),
         gradient_noise=float(ng), log_likelihood=float(-nll),
         seconds=time.perf_counter() - start,
-        info={"iterations": int(best.nit), "prior_scale": float(scale)},
+        info={"iterations": int(best.nit), "converged": bool(best.success),
+              "prior_scale": float(scale)},
     )  # fmt: skip
 
 

@@ -50,7 +50,7 @@ METHOD_PARTS: dict[str, tuple[str, ...]] = {
     "nH": ("eof-lm", "eof-ga"),
     "nML": PARTS,
     "multi": ("eof-lm", "eof-ga", "ml-lm"),
-    "gpis": ("eof-lm", "eof-ga"),  # its one-part candidate is nH's fit; the GP is numpy
+    "gpis": (),  # numpy and scipy: no compiled kernel
 }
 
 _ready: set[str] = set()

@@ -19,31 +19,65 @@ STATUSES: tuple[str, ...] = (
 
 
 @dataclass(frozen=True, eq=False)
-class FitResult:
-    """A fitted superquadric (or union) and how it was found.
+class PartSelection:
+    """How ``multi`` chose its number of parts (:func:`hapticsim.fitting.multi.multi_search`).
 
     Attributes:
-        superquadric: the estimate; for ``multi`` and ``gpis``, the one-part candidate
-            (nH's fit) beside the :attr:`solid`.
+        parts: the number of parts of the estimate.
+        criterion: the rule that chose it, in words.
+        candidates: per part count tried, ``{"parts", "how", "seconds", "cost"}``.
+        baseline: nH's one-part fit of all contacts, the criterion's first candidate (its own
+            :class:`FitResult`: estimate, EOF, evaluations, history).
+        sigma_distance, sigma_normal: the criterion's noise scales ([m], [1]), None where one
+            part was asked for.
+    """
+
+    parts: int
+    criterion: str
+    candidates: tuple[dict[str, Any], ...]
+    baseline: FitResult
+    sigma_distance: float | None = None
+    sigma_normal: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the keys above, ``baseline`` as its fit result's JSON."""
+        return {
+            "parts": int(self.parts),
+            "criterion": self.criterion,
+            "candidates": list(self.candidates),
+            "sigma_distance": self.sigma_distance,
+            "sigma_normal": self.sigma_normal,
+            "baseline": self.baseline.to_dict(),
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """One estimated solid and how it was found.
+
+    Attributes:
+        solid: the estimate (SPEC §10): a superquadric for the one-part methods, ``multi``'s
+            union, ``gpis``'s mesh.
         method: the method name (one of :data:`hapticsim.fitting.methods.METHODS`).
-        eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H).
-        evaluations: EOF evaluations used (SPEC §3), <= the budget.
+        eof: its error of fit [m^2] (SPEC §2; with normals for nLS and nH, without for LS, H;
+            ``multi``: each contact's smallest over the parts; ``gpis``: the contacts' mean
+            squared distance to the mesh).
+        evaluations: EOF evaluations used (SPEC §3), <= the budget (``gpis``: 0).
         seconds: wall-clock time of the fit [s], without getting its compiled kernels ready.
         history: ``(evaluations (k,) int, best EOF so far (k,) float)``, after each call of the
             EOF (a population or a single vector), in the search's own metric (the EOF with the
-            ``distance`` the fit searched with; without taper it equals the SPEC EOF).
+            ``distance`` the fit searched with; without taper it equals the SPEC EOF). Empty for
+            ``gpis``; ``multi``: its baseline's.
         status: why the fit stopped, one of :data:`STATUSES`: ``"converged"`` (least squares
-            met its tolerances), ``"budget"`` (evaluations used up), ``"iterations"`` (least
-            squares reached its step limit, ``least_squares.MAX_ITERATIONS``), or the genetic
-            algorithm's
+            met its tolerances; ``gpis``: its hyperparameter search did), ``"budget"``
+            (evaluations used up), ``"iterations"`` (least squares reached its step limit,
+            ``least_squares.MAX_ITERATIONS``), or the genetic algorithm's
             ``"stall"``, ``"generations"``, ``"target"`` when nothing was left to polish.
         message: a sentence on the same.
         noise: nML only: the relative noise level sigma_N its weights used (given, or estimated
             from the residuals); None for the paper's methods.
-        solid: the estimated solid (SPEC §10): the superquadric itself (default, None given),
-            ``multi``'s union or ``gpis``'s mesh.
-        selection: ``multi`` only: how the number of parts was chosen
-            (:func:`hapticsim.fitting.multi.multi_search`), else None.
+        selection: ``multi`` only: how the number of parts was chosen, with the one-part
+            baseline (:class:`PartSelection`), else None.
         setup_seconds: wall-clock time spent before the fit loading its compiled kernels from
             numba's cache, or compiling them on a fresh installation
             (:func:`hapticsim.fitting.kernels.prepare`; 0 once a process has them).
@@ -53,7 +87,7 @@ class FitResult:
             (:meth:`~hapticsim.fitting.gpis.GpisFit.to_dict`), else None.
     """
 
-    superquadric: Superquadric
+    solid: Solid
     method: str
     eof: float
     evaluations: int
@@ -62,21 +96,18 @@ class FitResult:
     status: str
     message: str = ""
     noise: float | None = None
-    solid: Solid | None = None
-    selection: dict[str, Any] | None = None
+    selection: PartSelection | None = None
     setup_seconds: float = 0.0
     uncertainty: Any = None
     model: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.superquadric, Superquadric):
-            raise InvalidInputError(
-                f"`superquadric` must be a Superquadric, got {type(self.superquadric).__name__}"
-            )
-        if self.solid is None:
-            object.__setattr__(self, "solid", self.superquadric)
-        elif not isinstance(self.solid, Solid):
+        if not isinstance(self.solid, Solid):
             raise InvalidInputError(f"`solid` must be a solid, got {type(self.solid).__name__}")
+        if self.selection is not None and not isinstance(self.selection, PartSelection):
+            raise InvalidInputError(
+                f"`selection` must be a PartSelection, got {type(self.selection).__name__}"
+            )
         if self.status not in STATUSES:
             raise ChoiceError("status", self.status, STATUSES)
         evals, best = (np.asarray(h) for h in self.history)
@@ -93,21 +124,38 @@ class FitResult:
         object.__setattr__(self, "seconds", float(self.seconds))
         object.__setattr__(self, "setup_seconds", float(self.setup_seconds))
 
+    @property
+    def superquadric(self) -> Superquadric:
+        """The estimate where it is one superquadric (:attr:`solid`).
+
+        Raises:
+            AttributeError: the estimate is a union or a mesh; it names where to look instead.
+        """
+        if isinstance(self.solid, Superquadric):
+            return self.solid
+        where = (
+            "; its one-part nH fit is .selection.baseline" if self.selection is not None else ""
+        )
+        raise AttributeError(
+            f"the {self.method} estimate is a {self.solid.kind}, not one superquadric: use "
+            f".solid{where}"
+        )
+
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: the SPEC §6 keys ``superquadric, method, eof, evaluations, seconds``,
-        ``solid`` (SPEC §10: the superquadric again, or multi's union), ``status`` and
+        """JSON-ready: ``solid`` (SPEC §10), ``superquadric`` where the estimate is one (the
+        same object, SPEC §6), ``method, eof, evaluations, seconds``, ``status`` and
         ``message``, ``setup_seconds``, ``noise`` for nML, ``selection`` for multi and ``model``
         for gpis (the history is left out: see :attr:`history`)."""
+        one = {"superquadric": self.solid.to_dict()} if isinstance(self.solid, Superquadric) else {}
         extra: dict[str, Any] = {} if self.noise is None else {"noise": float(self.noise)}
         if self.selection is not None:
-            extra["selection"] = self.selection
+            extra["selection"] = self.selection.to_dict()
         if self.uncertainty is not None:
             extra["uncertainty"] = self.uncertainty.to_dict()
         if self.model is not None:
             extra["model"] = self.model
-        assert self.solid is not None
         return {
-            "superquadric": self.superquadric.to_dict(),
+            **one,
             "solid": self.solid.to_dict(),
             "method": self.method,
             "eof": self.eof,
