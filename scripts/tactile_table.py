@@ -81,10 +81,10 @@ def _contact_errors(
     """Per contact: the distance [m] from the true surface and the normal's angle [rad] against
     the true normal there (metrics/accuracy.py's, as contact_accuracy reports them; on a mesh,
     against the normal cone of an edge or vertex within `tolerance` [m])."""
-    from hapticsim.geometry import MeshSolid
+    from hapticsim.geometry.mesh_solid import MeshSolid, mesh_contact_errors
 
     if isinstance(truth, MeshSolid):  # the only kind with a tolerance for its edges
-        dist, angle = truth.contact_errors(points, normals, feature_tolerance=tolerance)
+        dist, angle = mesh_contact_errors(truth, points, normals, feature_tolerance=tolerance)
     else:
         dist, angle = truth.contact_errors(points, normals)
     return np.asarray(dist), np.radians(angle)

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.errors import ChoiceError
 from hapticsim.geometry.solid import Solid
-from hapticsim.sim.object_mesh import support_foot, support_radius
+from hapticsim.sim.object_mesh import support_foot, support_points, support_radius
 
 Array = NDArray[np.float64]
 
@@ -53,11 +53,11 @@ class Support:
     def under(cls, shape: Solid, kind: str = "stand") -> Support:
         """The support of `shape` by the MuJoCo scene's rule
         (:func:`hapticsim.sim.object_mesh.support_foot`), on the solid's dense surface points
-        (:meth:`~hapticsim.geometry.solid.Solid.support_points`: a superquadric's 91 x 181 grid
+        (:func:`~hapticsim.sim.object_mesh.support_points`: a superquadric's 91 x 181 grid
         of angles, about 0.1 mm apart, rather than its collision vertices) and at the lowest
         height."""
 
-        foot = support_foot(shape, shape.support_points(), level=True)
+        foot = support_foot(shape, support_points(shape), level=True)
         return cls(kind, foot, support_radius(shape, STAND_RADIUS))
 
     def blocks(self, point: Array) -> bool:

@@ -306,31 +306,10 @@ class MeshSolid(Solid):
         "adjacent faces at an edge or vertex"
     )
 
-    def contact_errors(
-        self, points_world: Array, normals_world: Array, feature_tolerance: float = 1e-6
-    ) -> tuple[Array, Array]:
+    def contact_errors(self, points_world: Array, normals_world: Array) -> tuple[Array, Array]:
         """Distance [m] of contacts to the surface and angle [deg] of their normals against the
-        surface normal there.
-
-        The normal at a contact is the outward normal of the face it lies on. At an edge or a
-        vertex (every face within `feature_tolerance` [m] of the closest point counts) the
-        surface has a cone of normals, spanned by the adjacent faces' normals, and the angle is
-        the one to that cone (0 inside it): a fingertip rolling over a sharp edge measures the
-        normals in between, and each of them is right.
-        """
-
-        p = points_array(points_world, "points_world", min_count=1)
-        unit = normals_array(normals_world, len(p), "normals_world")
-        closest, face = self.closest_points(p)
-        tri = np.asarray(self.triangles)
-        normals = np.asarray(self.face_normals)
-        angle = np.empty(len(p))
-        for i in range(len(p)):
-            q = np.repeat(closest[i][None, :], len(tri), axis=0)
-            d = np.linalg.norm(closest_point_on_triangles(tri, q) - q, axis=1)
-            faces = np.flatnonzero(np.nan_to_num(d, nan=np.inf) <= feature_tolerance)
-            angle[i] = _cone_angle(unit[i], normals[faces if len(faces) else face[i : i + 1]])
-        return np.linalg.norm(closest - p, axis=1), np.degrees(angle)
+        surface normal there: :func:`mesh_contact_errors` at its default feature tolerance."""
+        return mesh_contact_errors(self, points_world, normals_world)
 
     # ----------------------------------------------------------------- sampling
     def sample_surface(
@@ -435,31 +414,6 @@ class MeshSolid(Solid):
         for piece in self.pieces or ():
             digest.update(np.ascontiguousarray(piece).tobytes())
         return b"mesh:" + digest.digest()
-
-    def support_points(self) -> Array:
-        """Its vertices."""
-        return np.array(self.vertices)
-
-    def support_half_widths(self) -> Array:
-        """(2,) float, half the bounding box's width in x and y [m]."""
-        lo, hi = self.bounds
-        return 0.5 * (hi[:2] - lo[:2])
-
-    def lowest_on_vertical(self, xy: Array) -> float | None:
-        """Height [m] of the lowest point where the vertical through `xy` meets the faces."""
-        t = np.asarray(self.triangles)
-        xy = np.asarray(xy, dtype=np.float64)
-        a, b, c = (t[:, k, :2] - xy for k in range(3))
-        wa = b[:, 0] * c[:, 1] - c[:, 0] * b[:, 1]
-        wb = c[:, 0] * a[:, 1] - a[:, 0] * c[:, 1]
-        wc = a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]
-        total = wa + wb + wc
-        inside = (((wa >= 0) & (wb >= 0) & (wc >= 0)) | ((wa <= 0) & (wb <= 0) & (wc <= 0))) & (
-            np.abs(total) > 0
-        )
-        w = np.stack([wa, wb, wc], axis=1)[inside] / total[inside, None]
-        z = np.einsum("ij,ij->i", w, t[inside, :, 2])
-        return float(z.min()) if z.size else None
 
     # ----------------------------------------------------------------- transforms, export
     def transformed(self, rotation: Array, translation: Array) -> MeshSolid:
@@ -597,4 +551,36 @@ class _ColumnGrid:
         return (hits % 2) == 1
 
 
-__all__ = ["DECOMPOSITION_THRESHOLD", "MeshSolid"]
+
+#: Faces within this distance [m] of a contact's closest point meet there: an edge or a vertex.
+FEATURE_TOLERANCE: float = 1e-6
+
+
+def mesh_contact_errors(
+    mesh: MeshSolid, points_world: Array, normals_world: Array,
+    feature_tolerance: float = FEATURE_TOLERANCE,
+) -> tuple[Array, Array]:  # fmt: skip
+    """Distance [m] of contacts (n, 3) to the mesh's surface and angle [deg] of their unit
+    normals (n, 3) against the surface normal there, each (n,).
+
+    The normal at a contact is the outward normal of the face it lies on. At an edge or a
+    vertex (every face within `feature_tolerance` [m] of the closest point counts) the surface
+    has a cone of normals, spanned by the adjacent faces' normals, and the angle is the one to
+    that cone (0 inside it): a fingertip rolling over a sharp edge measures the normals in
+    between, and each of them is right. (:meth:`MeshSolid.contact_errors` is this at
+    :data:`FEATURE_TOLERANCE`; a study of the tolerance calls it with others.)
+    """
+    p = points_array(points_world, "points_world", min_count=1)
+    unit = normals_array(normals_world, len(p), "normals_world")
+    closest, face = mesh.closest_points(p)
+    tri = np.asarray(mesh.triangles)
+    normals = np.asarray(mesh.face_normals)
+    angle = np.empty(len(p))
+    for i in range(len(p)):
+        q = np.repeat(closest[i][None, :], len(tri), axis=0)
+        d = np.linalg.norm(closest_point_on_triangles(tri, q) - q, axis=1)
+        faces = np.flatnonzero(np.nan_to_num(d, nan=np.inf) <= feature_tolerance)
+        angle[i] = _cone_angle(unit[i], normals[faces if len(faces) else face[i : i + 1]])
+    return np.linalg.norm(closest - p, axis=1), np.degrees(angle)
+
+__all__ = ["DECOMPOSITION_THRESHOLD", "FEATURE_TOLERANCE", "MeshSolid", "mesh_contact_errors"]

@@ -15,16 +15,20 @@ What a solid answers (points and normals are (n, 3) float [m, world]):
   :meth:`surface_distance` (distance to the surface, as the Chamfer distance measures it) and
   :meth:`contact_errors` (distance and normal angle of measured contacts, SPEC §7);
 - **sampling**: :meth:`sample_interior` (uniform inside), :meth:`sample_surface` (uniform by area,
-  with normals), :meth:`quasi_interior` (the per-step scorer's quasi-random interior sample);
+  with normals);
 - **ray casting**: :meth:`first_hits` (distance to where each ray first enters);
 - **measures**: :attr:`volume` (exact for every kind), :attr:`center`, :attr:`bounding_radius`,
   :attr:`bounds`, :attr:`size` (the length of SPEC §5's relative noise);
 - **meshes and pieces**: :meth:`surface_mesh` (vertices and faces of the surface, for pictures
   and depth images) and :meth:`convex_pieces` (the convex parts MuJoCo collides with);
 - **placement**: :meth:`transformed`, :meth:`scaled`, :attr:`pose` and :meth:`shape_key` (what
-  identifies the shape apart from its pose, for caches of compiled scenes),
-  :meth:`support_half_widths`;
+  identifies the shape apart from its pose, for caches of compiled scenes);
 - **files**: :meth:`to_dict` (its JSON) and :attr:`kind`.
+
+What one caller alone asks is answered beside that caller, for any solid through this interface
+and faster for the kinds that register a way: the per-step scorer's samples and counts
+(:mod:`hapticsim.metrics.scorer_kinds`), the stand's size and foot
+(:mod:`hapticsim.sim.object_mesh`).
 
 numpy only (trimesh, scipy and coacd are imported where a kind needs them).
 """
@@ -87,53 +91,6 @@ class Solid(ABC):
     ) -> tuple[Array, Array]:
         """`count` points uniform by area on the surface (count, 3) [m, world] and their
         outward unit normals (count, 3)."""
-
-    def quasi_interior(self, samples: int, gen: np.random.Generator) -> Array:
-        """About `samples` points uniform inside the solid from a scrambled Sobol sequence
-        seeded by `gen`, (k, 3) [m, world]: the per-step scorer's fixed interior sample of a
-        truth (:class:`hapticsim.metrics.episode.TruthScorer`). Default: the points of the
-        sequence in :attr:`bounds` (the first ``samples / fill`` of them) that it contains."""
-        from hapticsim.geometry.sampling import sobol_points
-
-        lo, hi = self.bounds
-        count = int(np.ceil(samples * float(np.prod(hi - lo)) / self.volume))
-        candidates = lo + sobol_points(3, count, gen)[:count] * (hi - lo)
-        return candidates[self.contains(candidates)]
-
-    # ----------------------------------------------------------------- the per-step scorer
-    # (hapticsim.metrics.episode.TruthScorer): fixed samples, counted fast where a kind can
-
-    def interior_from_candidates(
-        self, candidates: tuple[Array, Array, Array], samples: int
-    ) -> Array:
-        """About `samples` points inside, (3, k) [m, world], from the scorer's fixed
-        quasi-random candidates (:func:`hapticsim.geometry.sampling.quasi_random_candidates`;
-        default: :meth:`quasi_interior` with a fixed seed, the candidates unused)."""
-        return np.ascontiguousarray(self.quasi_interior(samples, np.random.default_rng(0)).T)
-
-    def count_outside(self, points: Array) -> int:
-        """How many of the points (3, n) [m, world] lie strictly outside."""
-        return int(np.count_nonzero(self.outside(np.asarray(points).T)))
-
-    def count_outside_of(
-        self, other: Solid, candidates: tuple[Array, Array, Array], samples: int
-    ) -> tuple[int, int]:
-        """``(outside, kept)``: of `other`'s interior sample from the candidates
-        (:meth:`interior_from_candidates`), how many lie outside this solid, and how many it
-        has."""
-        points = other.interior_from_candidates(candidates, samples)
-        return self.count_outside(points), int(points.shape[1])
-
-    def lattice_surface(self, directions: Array) -> tuple[Array, Array] | None:
-        """Surface points (3, K) [m, world] on fixed unit `directions` (3, K) from the centre,
-        with their area weights, for a solid whose surface meets every such ray once; None
-        (default) where it does not: the scorer samples its surface instead."""
-        return None
-
-    def foot_distances(self, points: Array) -> Array:
-        """(K,) distances [m] of points (3, K) to the surface (default
-        :meth:`surface_distance`)."""
-        return self.surface_distance(np.asarray(points).T)
 
     # ----------------------------------------------------------------- rays
     def first_hits(
@@ -234,22 +191,6 @@ class Solid(ABC):
     def shape_key(self) -> bytes:
         """Bytes that identify the shape in the frame of :attr:`pose`: equal keys, the same
         body-frame shape (a compiled scene can then be moved, not compiled again)."""
-
-    @abstractmethod
-    def support_half_widths(self) -> Array:
-        """(2,) float, the horizontal half-widths [m] the stand under the solid is sized by."""
-
-    def lowest_on_vertical(self, xy: Array) -> float | None:
-        """Height [m] of the lowest surface point on the vertical line through `xy` (2,), or
-        None where a kind does not say (the stand's foot then goes to the lowest of
-        :meth:`support_points` nearest the centre)."""
-        return None
-
-    def support_points(self) -> Array:
-        """(n, 3) float, surface points [m, world] the stand's foot is chosen among where
-        :meth:`lowest_on_vertical` says nothing (default: :meth:`surface_mesh`'s vertices at
-        64 longitudes)."""
-        return np.asarray(self.surface_mesh(64)[0], dtype=np.float64)
 
     # ----------------------------------------------------------------- files
     @abstractmethod

@@ -419,79 +419,6 @@ class Superquadric(Solid):
         points = surface_mesh_of(self, resolution).sample(n, as_generator(rng))
         return points, self.normals(points)
 
-    def quasi_interior(self, samples: int, gen: np.random.Generator) -> Array:
-        """About `samples` points inside from scrambled Sobol candidates, as many as its own
-        acceptance needs (:func:`~hapticsim.geometry.sampling.interior_from_candidates`),
-        (k, 3) [m, world]."""
-        from hapticsim.geometry.sampling import (
-            CANDIDATES_PER_SAMPLE,
-            candidate_count,
-            interior_from_candidates,
-            max_taper_jacobian,
-            quasi_random_candidates,
-        )
-
-        need = candidate_count(self, max_taper_jacobian(self.taper), samples, None)
-        candidates = quasi_random_candidates(min(need, CANDIDATES_PER_SAMPLE * samples), gen)
-        return interior_from_candidates(candidates, self, samples).T
-
-    # ----------------------------------------------------------------- Solid: the scorer
-    def interior_from_candidates(
-        self, candidates: tuple[Array, Array, Array], samples: int
-    ) -> Array:
-        """What the rejection sampler keeps of the first ``samples / acceptance`` candidates
-        (:func:`~hapticsim.geometry.sampling.interior_from_candidates`), (3, k) [m, world]."""
-        from hapticsim.geometry.sampling import interior_from_candidates
-
-        return interior_from_candidates(candidates, self, samples)
-
-    def count_outside(self, points: Array) -> int:
-        """How many of the points (3, n) lie strictly outside, compiled."""
-        from hapticsim.geometry import _sampling_compiled as kernel
-
-        return int(kernel.count_outside(np.ascontiguousarray(points), *kernel.unpack(self)))
-
-    def count_outside_of(
-        self, other: Solid, candidates: tuple[Array, Array, Array], samples: int
-    ) -> tuple[int, int]:
-        """Another superquadric's candidates sampled and tested here in one compiled pass
-        (:func:`hapticsim.geometry._sampling_compiled.interior_outside`); other solids as the
-        base class does."""
-        if not isinstance(other, Superquadric):
-            return super().count_outside_of(other, candidates, samples)
-        from hapticsim.geometry import _sampling_compiled as kernel
-        from hapticsim.geometry.sampling import candidate_count, max_taper_jacobian
-
-        unit, log_unit, accept = candidates
-        top = max_taper_jacobian(other.taper)
-        count = candidate_count(other, top, samples, accept.shape[0])
-        outside, kept = kernel.interior_outside(
-            unit, log_unit, accept, top, count, *kernel.unpack(other), *kernel.unpack(self)
-        )
-        return int(outside), int(kept)
-
-    def lattice_surface(self, directions: Array) -> tuple[Array, Array]:
-        """The surface point on each ray from the centre (a superquadric meets each once) and
-        its area weight (:func:`hapticsim.geometry._sampling_compiled.surface_sample`)."""
-        from hapticsim.geometry import _sampling_compiled as kernel
-        from hapticsim.geometry.sampling import AREA_STEP
-
-        count = directions.shape[1]
-        points, weights = np.empty((3, count)), np.empty(count)
-        kernel.surface_sample(directions, AREA_STEP, *kernel.unpack(self), points, weights)
-        return points, weights
-
-    def foot_distances(self, points: Array) -> Array:
-        """Exact distances to the surface by foot-point iteration, compiled
-        (:func:`hapticsim.geometry._sampling_compiled.surface_distances`)."""
-        from hapticsim.geometry import _sampling_compiled as kernel
-        from hapticsim.geometry.sampling import FOOT_ITERATIONS
-
-        out = np.empty(points.shape[1])
-        kernel.surface_distances(np.ascontiguousarray(points), *kernel.unpack(self),
-                                 FOOT_ITERATIONS, out)  # fmt: skip
-        return out
-
     # ----------------------------------------------------------------- Solid: surface
     def surface_distance(self, points_world: Array, resolution: int = 96) -> Array:
         """(n,) distances [m] to its fine mesh (vertices on the surface; the chords add a few
@@ -556,17 +483,6 @@ class Superquadric(Solid):
     def shape_key(self) -> bytes:
         """The body-frame shape's parameters (a, eps, taper)."""
         return np.concatenate([self.a, self.eps, self.taper]).tobytes()
-
-    def support_points(self) -> Array:
-        """(16471, 3) surface points on a 91 x 181 grid of the angles (eta, omega)."""
-        eta = np.linspace(-np.pi / 2, np.pi / 2, 91)
-        omega = np.linspace(-np.pi, np.pi, 181)
-        ee, oo = np.meshgrid(eta, omega)
-        return self.surface(ee.ravel(), oo.ravel())[0]
-
-    def support_half_widths(self) -> Array:
-        """(2,) float, the semi-axes a1, a2 [m]."""
-        return np.array(self.a[:2])
 
     def to_mesh(self, resolution: int = 64, parametrization: str = "uniform") -> Any:
         """A watertight ``trimesh.Trimesh`` of the surface in the world frame.

@@ -267,22 +267,6 @@ class SuperquadricUnion(Solid):
         pick = gen.choice(len(pts), size=n, replace=False)
         return pts[pick], nrm[pick]
 
-    def interior_from_candidates(
-        self, candidates: tuple[Array, Array, Array], samples: int
-    ) -> Array:
-        """Each part's sample from the shared candidates at the union's density (``samples *
-        V_part / V``), kept where no earlier part holds it, (3, k) [m, world]."""
-        v = self.volume
-        chunks = []
-        for k, part in enumerate(self.parts):
-            pts = part.interior_from_candidates(
-                candidates, max(1, round(samples * part.volume / v))
-            )
-            if k:
-                pts = pts[:, SuperquadricUnion(self.parts[:k]).outside(pts.T)]
-            chunks.append(pts)
-        return np.ascontiguousarray(np.concatenate(chunks, axis=1))
-
     # ----------------------------------------------------------------- measures
     @property
     def center(self) -> Array:
@@ -366,10 +350,6 @@ class SuperquadricUnion(Solid):
         for p in self.parts:
             digest.update(p.to_vector().tobytes())
         return b"union:" + digest.digest()
-
-    def support_half_widths(self) -> Array:
-        lo, hi = self.bounds
-        return 0.5 * (hi[:2] - lo[:2])
 
 
 __all__ = ["MAX_PARTS", "SuperquadricUnion"]

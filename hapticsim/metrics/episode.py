@@ -11,7 +11,7 @@ samples and 128 Chamfer points):
   dimensions (three coordinates, one acceptance number; it keeps what it needs of the first
   ``samples / acceptance``, its acceptance known in closed form), a union's from its parts'
   (each keeping the points no earlier part holds), a mesh's from a Sobol sequence in its
-  bounding box (:meth:`~hapticsim.geometry.solid.Solid.quasi_interior`);
+  bounding box (:func:`~hapticsim.metrics.scorer_kinds.quasi_interior`);
 - **beta**: the truth's interior sample (its own scrambled sequence), fixed; beta is the
   fraction outside the estimate;
 - **alpha**: each estimate's interior sample from the shared candidates, tested in the truth.
@@ -21,11 +21,11 @@ samples and 128 Chamfer points):
 - **Chamfer** (SPEC §4, the mean of both directions' mean distances): fixed directions spread
   evenly on the sphere (a randomly turned Fibonacci lattice) map one-to-one onto a
   superquadric's surface (the surface point on each ray, with its area element:
-  :meth:`~hapticsim.geometry.solid.Solid.lattice_surface`), so its weighted means are area
+  :func:`~hapticsim.metrics.scorer_kinds.lattice_surface`), so its weighted means are area
   means; a solid no ray from its centre meets once (a union, a mesh) is sampled by area
   instead, with a fixed seed. The distances to the other surface come from foot-point
   iteration on a superquadric (compiled), from the surface itself on other kinds
-  (:meth:`~hapticsim.geometry.solid.Solid.foot_distances`).
+  (:func:`~hapticsim.metrics.scorer_kinds.foot_distances`).
 
 Accuracy for superquadrics, measured against 3 x 10^6 Monte Carlo samples and a 20 000-point
 Chamfer distance on 30 estimate/truth pairs (random tapered and paper bodies, 4 scorer seeds;
@@ -48,6 +48,7 @@ from hapticsim.geometry.sampling import (
     sobol_points,
 )
 from hapticsim.geometry.solid import Solid, solid_arg
+from hapticsim.metrics import scorer_kinds as kinds
 from hapticsim.metrics.volume import intersection_and_iou
 
 Array = NDArray[np.float64]
@@ -120,7 +121,7 @@ class TruthScorer:
 
     def _set_truth(self, truth: Solid, gen: np.random.Generator) -> None:
         self.truth = truth
-        self._truth_inside = np.ascontiguousarray(truth.quasi_interior(self.samples, gen).T)
+        self._truth_inside = np.ascontiguousarray(kinds.quasi_interior(truth, self.samples, gen).T)
         self._truth_surface = self._surface(truth, gen)
 
     def with_truth(self, truth: Solid, rng: np.random.Generator | int | None = 0) -> TruthScorer:
@@ -139,8 +140,8 @@ class TruthScorer:
     def score(self, estimate: Solid) -> EstimateScore:
         """alpha, beta, epsilon, IoU and Chamfer of `estimate` against the truth."""
         est = solid_arg(estimate, "estimate")
-        outside_e, kept = self.truth.count_outside_of(est, self._candidates, self.samples)
-        outside_s = est.count_outside(self._truth_inside)
+        outside_e, kept = kinds.count_outside_of(self.truth, est, self._candidates, self.samples)
+        outside_s = kinds.count_outside(est, self._truth_inside)
         n_e, n_s = max(kept, 1), max(self._truth_inside.shape[1], 1)
         alpha, beta = outside_e / n_e, outside_s / n_s
         _, iou = intersection_and_iou(alpha, beta, est.volume, self.truth.volume, n_s)
@@ -154,7 +155,7 @@ class TruthScorer:
         """Surface points (3, K) [m, world] and their weights: on the fixed directions where the
         solid has a lattice surface, else `chamfer_samples` area-uniform points (equal weights).
         """
-        lattice = solid.lattice_surface(self._directions)
+        lattice = kinds.lattice_surface(solid, self._directions)
         if lattice is not None:
             return lattice
         points, _ = solid.sample_surface(self.chamfer_samples, gen)
@@ -163,9 +164,9 @@ class TruthScorer:
     def _chamfer(self, estimate: Solid) -> float:
         """Area-weighted mean distances between the two surfaces, averaged (SPEC §4) [m]."""
         points, weights = self._surface(estimate, np.random.default_rng(_SURFACE_SEED))
-        to_truth = self.truth.foot_distances(points)
+        to_truth = kinds.foot_distances(self.truth, points)
         truth_points, truth_weights = self._truth_surface
-        to_estimate = estimate.foot_distances(truth_points)
+        to_estimate = kinds.foot_distances(estimate, truth_points)
         return 0.5 * (
             float(np.average(to_truth, weights=weights))
             + float(np.average(to_estimate, weights=truth_weights))
@@ -174,8 +175,8 @@ class TruthScorer:
 
 def interior_sample(candidates: tuple[Array, Array, Array], solid: Solid, samples: int) -> Array:
     """About `samples` points uniform inside `solid`, (3, k) [m, world], from the scorer's fixed
-    candidates (:meth:`~hapticsim.geometry.solid.Solid.interior_from_candidates`)."""
-    return solid_arg(solid, "solid").interior_from_candidates(candidates, samples)
+    candidates (:func:`~hapticsim.metrics.scorer_kinds.interior_from_candidates`)."""
+    return kinds.interior_from_candidates(solid_arg(solid, "solid"), candidates, samples)
 
 
 __all__ = [

@@ -36,11 +36,6 @@ def finger_rgb(finger: int) -> tuple[int, int, int]:
     return FINGER_RGB[int(finger) % len(FINGER_RGB)]
 
 
-def _parts(solid: Any) -> tuple[Any, ...]:
-    """A union's parts, or the solid itself."""
-    return tuple(getattr(solid, "parts", (solid,)))
-
-
 def _pressure_rgb(image: np.ndarray) -> np.ndarray:
     """A pressure image (rows, cols) as an (rows, cols, 3) uint8 picture (viridis, own scale)."""
     from matplotlib import colormaps
@@ -81,7 +76,7 @@ class RunScene:
         self._truth_nodes = [
             scene.add_mesh_simple(f"/truth/part{k}", *_mesh(part), color=TRUTH_RGB,
                                   opacity=0.35, side="double", cast_shadow=False)
-            for k, part in enumerate(_parts(truth))
+            for k, part in enumerate(truth.components)
         ]  # fmt: skip
         self._add_touches()
         self._add_hand()
@@ -161,7 +156,7 @@ class RunScene:
                 node.remove()
             self._estimate_nodes = []
             if state.estimate is not None:
-                for j, part in enumerate(_parts(state.estimate)):
+                for j, part in enumerate(state.estimate.components):
                     v, f = _mesh(part)
                     self._estimate_nodes.append(self.scene.add_mesh_simple(
                         f"/estimate/part{j}", v, f, color=PART_RGB[j % len(PART_RGB)],
