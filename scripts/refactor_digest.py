@@ -2,9 +2,10 @@
 
 Run it before and after a change that should move nothing (on the same machine and packages:
 the digits depend on the CPU's code-generation target, docs/suites/README.md). It hashes the
-estimates (each part of a union), EOFs and evaluation counts of 72 fits (LS, H, nLS, nH, nML, multi x the paper's four
-bodies x sigma_N 0, 0.05, 0.1, seed 3), one Laplace covariance, and the rewards of three seeded
-analytic episodes of HapticExplore-v0 with seeded random actions. About 15 s on a warm cache.
+estimates (each part of a union), EOFs and evaluation counts of 72 fits (LS, H, nLS, nH, nML,
+multi x the paper's four bodies x sigma_N 0, 0.05, 0.1, seed 3), one Laplace covariance, and
+the rewards of three seeded analytic episodes of HapticExplore-v0 with seeded random actions.
+About 15 s on a warm cache.
 
     python scripts/refactor_digest.py   # {"fits": 72, "digest": "...", ...}
 """

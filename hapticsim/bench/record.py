@@ -70,7 +70,7 @@ def record_dataset(
 
     from hapticsim._version import __version__
     from hapticsim.bench.runner import checked_action, make_bench_policy
-    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+    from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
     from hapticsim.envs.policies import Policy
     from hapticsim.suites.provenance import git_state
 
@@ -87,7 +87,7 @@ def record_dataset(
             raise InvalidInputError(f"the Minari dataset {dataset!r} exists already")
         # made directly: Gymnasium cannot serialise the registered vector entry point, which
         # Minari would record with the spec; the dataset's description names the task instead
-        env = v0_class(kwargs["sensing"])(**kwargs)
+        env = make_v0(**kwargs)
         try:
             agent = make_bench_policy(policy, env, seeds[0])
             collector = minari.DataCollector(env, record_infos=False, data_format="arrow",

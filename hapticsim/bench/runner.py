@@ -91,12 +91,13 @@ def checked_action(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
 
 def run_episode(job: EpisodeTask) -> dict[str, Any]:
     """One episode of a task (module-level: the executor maps it)."""
-    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+    from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
     from hapticsim.envs.policies import Policy
 
     task = get_task(job.task)
     kwargs = task.env_kwargs()
-    env = v0_class(kwargs["sensing"])(**kwargs)
+    env = make_v0(**kwargs)
+    core = env.unwrapped  # the truth and the estimate
     try:
         policy = make_bench_policy(job.policy, env, job.seed)
         obs, _ = env.reset(seed=job.seed)
@@ -108,13 +109,13 @@ def run_episode(job: EpisodeTask) -> dict[str, Any]:
             action = checked_action(job.policy, policy(obs), env.action_space.shape)
             obs, _, terminated, truncated, info = env.step(action)
             row = {"wall_s": time.perf_counter() - wall, "cpu_s": time.process_time() - cpu}
-            estimate = env.estimate
-            row |= touch_metrics(estimate, env.truth)
+            estimate = core.estimate
+            row |= touch_metrics(estimate, core.truth)
             row["contacts"] = int(info["n_contacts"])
             row["estimate"] = None if estimate is None else estimate.to_dict()
             touches.append(row)
             done = terminated or truncated
-        truth = env.truth.to_dict() if env.truth.kind != "mesh" else None
+        truth = core.truth.to_dict() if core.truth.kind != "mesh" else None
     finally:
         env.close()
     return {"seed": job.seed, "truth": truth, "touches": touches}
@@ -189,10 +190,10 @@ def run_bench(
 
 def _check_policy(policy: str, task: Task) -> None:
     """Make the policy once on the task's environment (bad names and plug-ins fail here)."""
-    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+    from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
 
     kwargs = task.env_kwargs() | {"backend": "analytic"}
-    env = v0_class(kwargs["sensing"])(**kwargs)
+    env = make_v0(**kwargs)
     try:
         make_bench_policy(policy, env, 0)
     finally:

@@ -57,14 +57,13 @@ _ENVS: dict[tuple, Any] = {}
 def run_task(task: ComparisonTask) -> dict[str, Any]:
     """Run one episode; returns epsilon, IoU, contacts and step times after each touch."""
     from hapticsim.envs.episodes import run_episode
-    from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+    from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
     from hapticsim.envs.policies import make_policy
 
     key = (task.objects, tuple(sorted(task.env_kwargs.items())))
     env = None if task.fresh_env else _ENVS.get(key)
     if env is None:  # one environment per worker and setting, reused across episodes
-        kind = v0_class(task.env_kwargs.get("sensing", "exact"))
-        env = kind(objects=task.objects, **task.env_kwargs)
+        env = make_v0(objects=task.objects, **task.env_kwargs)
         if not task.fresh_env:
             _ENVS[key] = env
     seed = task.seed + task.episode
@@ -80,7 +79,7 @@ def run_task(task: ComparisonTask) -> dict[str, Any]:
         "iou": record.iou.tolist(),
         "n_contacts": record.n_contacts.tolist(),
         "step_seconds": record.step_seconds.tolist(),
-        "truth": env.truth.to_dict() if env.truth is not None else None,
+        "truth": env.unwrapped.truth.to_dict() if env.unwrapped.truth is not None else None,
     }
 
 

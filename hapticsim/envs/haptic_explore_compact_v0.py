@@ -363,9 +363,10 @@ class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarr
 
     As v0 (``backend``, ``objects``, ``touch_budget``, ``noise``, ``fit``, ...; or
     ``config=HapticExploreV1Config(...)``), plus ``reward``, ``epsilon_floor`` and
-    ``coverage_weight`` of v1. ``env``: the core to wrap (default: a
-    :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv` made from ``config.core``); its
-    settings must be ``config.core``.
+    ``coverage_weight`` of v1. ``env``: the core to wrap, or a wrapper of it (the tactile
+    variant, whose pads' images the touch observation reads; default: a
+    :class:`~hapticsim.envs.haptic_explore_v0.HapticExploreEnv` made from ``config.core``); the
+    core's settings must be ``config.core``.
 
     ## Version history
 
@@ -395,12 +396,17 @@ class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarr
         self.config = config if config is not None else HapticExploreV1Config.from_kwargs(**kwargs)
         if env is None:
             env = HapticExploreEnv(render_mode=render_mode, config=self.config.core)
-        elif not isinstance(env, HapticExploreEnv) or env.config != self.config.core:
+        elif (
+            not isinstance(env, gym.Env)
+            or not isinstance(env.unwrapped, HapticExploreEnv)
+            or env.unwrapped.config != self.config.core
+        ):
             raise InvalidInputError(
-                "`env` must be a HapticExploreEnv whose settings are `config.core`"
+                "`env` must be a HapticExploreEnv (or a wrapper of one) whose settings are "
+                "`config.core`"
             )
         super().__init__(env)
-        self.n_fingers = env.n_fingers
+        self.n_fingers = env.unwrapped.n_fingers
         self.observer = CompactObserver(self.config.core.obs_scale)
         self.observation_space = spaces.Box(-OBS_BOUND, OBS_BOUND, (OBS_DIM,), np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, (ACTION_DIM_V1,), np.float32)
@@ -411,27 +417,27 @@ class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarr
     @property
     def truth(self) -> Any:
         """The episode's ground truth (world frame), privileged."""
-        return self.env.truth
+        return self.unwrapped.truth
 
     @property
     def estimate(self) -> Superquadric | None:
         """The current estimate (world frame), None before the first fit."""
-        return self.env.estimate
+        return self.unwrapped.estimate
 
     @property
     def contacts(self):  # noqa: ANN201 - hapticsim.data.io.Contacts
         """All contacts so far (see v0's :attr:`HapticExploreEnv.contacts`)."""
-        return self.env.contacts
+        return self.unwrapped.contacts
 
     @property
     def origin(self) -> Array:
         """(3,) float, the rough position [m, world]: origin of the object-centred frame."""
-        return self.env.origin
+        return self.unwrapped.origin
 
     @property
     def resets_drawn_ahead(self) -> int:
         """Resets that used draws made ahead (v0's counter: :meth:`HapticExploreEnv.offer_draw`)."""
-        return self.env.resets_drawn_ahead
+        return self.unwrapped.resets_drawn_ahead
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -446,7 +452,7 @@ class HapticExploreCompactEnv(gym.Wrapper[np.ndarray, np.ndarray, dict, np.ndarr
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """One touch (v0's step on the mapped action), the compact observation and reward."""
-        if self.env.truth is None:
+        if self.unwrapped.truth is None:
             raise InvalidInputError("call `reset` before `step`")
         act, approach = v0_action(
             action, self._touches, self.config.core.max_stroke, self.n_fingers

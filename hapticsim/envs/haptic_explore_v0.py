@@ -222,6 +222,13 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._progress = 1.0  # the quantity whose drop is the reward
 
     @property
+    def last_images(self) -> NDArray[np.float32] | None:
+        """(pads, rows, cols) float, every pad's reading [Pa] at the last recorded contact with
+        tactile sensing; None before it, and with exact sensing (the tactile variant's
+        observation, :mod:`hapticsim.envs.haptic_explore_tactile_v0`)."""
+        return self._last_images
+
+    @property
     def truth(self) -> Solid | None:
         """The ground truth of the episode (world frame), privileged."""
         return self._truth

@@ -101,7 +101,7 @@ class PolicyExplorer:
         self, truth: Any, count: int, rng: np.random.Generator, scene: Any,
         hooks: ExplorationHooks | None = None,
     ) -> Any:  # fmt: skip
-        from hapticsim.envs.haptic_explore_tactile_v0 import v0_class
+        from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
         from hapticsim.envs.policies import make_policy
         from hapticsim.sim.free_space import FreeSpaceTrace
         from hapticsim.sim.scene import SceneConfig
@@ -112,7 +112,7 @@ class PolicyExplorer:
         config = SceneConfig() if scene is None else scene
         env_seed, policy_seed = (int(s) for s in rng.integers(2**63, size=2))
         start = time.perf_counter()
-        env = v0_class(config.sensing)(
+        env = make_v0(
             backend="mujoco", objects=[truth], touch_budget=budget, noise=0.0,
             max_contacts=max(256, count + 64), compute_metrics=False, reward="eof",
             hand=config.hand, sensing=config.sensing, skin=config.skin,

@@ -137,7 +137,7 @@ def run_trial(
             contacts were gathered (the message says how to reproduce the trial).
     """
     from hapticsim.data.noise import add_noise
-    from hapticsim.metrics.accuracy import contact_accuracy
+    from hapticsim.metrics.accuracy import accuracy_checked
     from hapticsim.sim.free_space import near_contacts
 
     start = time.perf_counter()
@@ -166,9 +166,10 @@ def run_trial(
     _say(h, "scoring")
     quality, theta, eof = score_estimate(estimate, truth, points, normals, trial.estimator,
                                          seeds.rng("score"))  # fmt: skip
-    accuracy = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
+    # the trial was validated once when made: the metrics' checked entries do not check again
+    accuracy = accuracy_checked(truth, a["points_clean"], a["normals_clean"])
     accuracy_exact = (
-        contact_accuracy(truth, a["points_exact"], a["normals_exact"])
+        accuracy_checked(truth, a["points_exact"], a["normals_exact"])
         if trial.scene.sensing == "tactile" else None
     )  # fmt: skip
     return TrialRecord(trial, seeds, truth, run, points, normals, free_space, result, estimate,
@@ -216,9 +217,10 @@ def score_estimate(
     from hapticsim.fitting.methods import uses_normals
     from hapticsim.geometry import Superquadric
     from hapticsim.geometry.eof import error_of_fit
-    from hapticsim.metrics import score, theta
+    from hapticsim.metrics.score import score_checked
+    from hapticsim.metrics.theta import theta_checked
 
-    quality = score(estimate, truth, rng=rng)
+    quality = score_checked(estimate, truth, rng)
     with_normals = normals if estimator is None or uses_normals(estimator) else None
     single = isinstance(estimate, Superquadric)
     e = estimate
@@ -227,7 +229,7 @@ def score_estimate(
                            DEFAULT_LAMBDA)) if single else None
     )  # fmt: skip
     th = (
-        float(theta(estimate, truth, points, with_normals, lam=DEFAULT_LAMBDA))
+        float(theta_checked(estimate, truth, points, with_normals, DEFAULT_LAMBDA))
         if single and isinstance(truth, Superquadric) else None
     )  # fmt: skip
     return quality, th, eof

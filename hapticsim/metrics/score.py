@@ -138,18 +138,33 @@ def score(
         raise ChoiceError("volume_method", volume_method, VOLUME_METHODS)
     n_vol = positive_int(volume_samples, "volume_samples")
     n_cd = positive_int(chamfer_samples, "chamfer_samples")
+    as_generator(rng)  # checks it
+    return score_checked(estimate, truth, rng, n_vol, n_cd, volume_method)
+
+
+def score_checked(
+    estimate: Solid,
+    truth: Solid,
+    rng: np.random.Generator | int | None,
+    volume_samples: int = DEFAULT_VOLUME_SAMPLES,
+    chamfer_samples: int = DEFAULT_CHAMFER_SAMPLES,
+    volume_method: str = "monte_carlo",
+) -> Score:
+    """:func:`score` of arguments checked already (two solids, a Generator, a seed >= 0 or None,
+    counts >= 1, a known volume method): for a caller that validated its inputs once at its own
+    entry (:func:`hapticsim.exploration.run_trial`), not again at every layer."""
     seed = seed_text(rng)
-    gen = as_generator(rng)
+    gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
     if volume_method == "monte_carlo":
-        volumes = monte_carlo_overlap(estimate, truth, n_vol, gen)
-        method = _monte_carlo_text(estimate, truth, n_vol, seed)
+        volumes = monte_carlo_overlap(estimate, truth, volume_samples, gen)
+        method = _monte_carlo_text(estimate, truth, volume_samples, seed)
     else:
         volumes = mesh_boolean_overlap(estimate, truth, BOOLEAN_RESOLUTION)
         method = (
             f"exact mesh booleans (manifold3d) of the two solids' surface meshes (superquadrics "
             f"meshed at {BOOLEAN_RESOLUTION} longitudes)"
         )
-    distance = chamfer_checked(estimate, truth, n_cd, gen)
+    distance = chamfer_checked(estimate, truth, chamfer_samples, gen)
     return Score(
         alpha=volumes.alpha,
         beta=volumes.beta,
@@ -159,4 +174,4 @@ def score(
     )
 
 
-__all__ = ["Score", "VOLUME_METHODS", "score"]
+__all__ = ["Score", "VOLUME_METHODS", "score", "score_checked"]

@@ -43,7 +43,16 @@ def theta(
     pts = points_array(points, "points", min_count=1)
     nrm = None if normals is None else normals_array(normals, len(pts))
     weight = finite_float(lam, "lam", low=0.0)
-    return _eof(estimate, pts, nrm, weight) / (_eof(truth, pts, nrm, weight) + 1.0)
+    return theta_checked(estimate, truth, pts, nrm, weight)
 
 
-__all__ = ["theta"]
+def theta_checked(
+    estimate: Superquadric, truth: Superquadric, points: Any, normals: Any | None, lam: float
+) -> float:
+    """:func:`theta` of arguments checked already (two superquadrics, (n, 3) points, unit
+    normals or None, lam >= 0): for a caller that validated its inputs once at its own entry
+    (:func:`hapticsim.exploration.run_trial`)."""
+    return _eof(estimate, points, normals, lam) / (_eof(truth, points, normals, lam) + 1.0)
+
+
+__all__ = ["theta", "theta_checked"]

@@ -212,7 +212,8 @@ def _run_policy(case: Case, task: CaseTask, timing: dict) -> tuple[dict[str, Any
             raise _PluginError(
                 f"the episode with policy {task.policy} failed: {type(exc).__name__}: {detail}"
             ) from None
-        estimate, truth, contacts = env.estimate, env.truth, env.contacts
+        core = env.unwrapped
+        estimate, truth, contacts = core.estimate, core.truth, core.contacts
     finally:
         env.close()
     if estimate is None:

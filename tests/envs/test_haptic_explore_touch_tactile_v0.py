@@ -68,13 +68,18 @@ def test_each_touch_carries_its_pad_image() -> None:
     obs, _ = env.reset(seed=4)
     assert obs.shape == (TACTILE_OBS_DIM,) == env.observation_space.shape
     plain = TouchObserver()
-    v0_obs = env.unwrapped._observation()
+    tactile = env.env  # the tactile observation wrapper of the core: v0's observation and pads
+
+    def v0_observation() -> dict:
+        return tactile.observation(env.unwrapped._observation())
+
+    v0_obs = v0_observation()
     np.testing.assert_array_equal(plain.reset(v0_obs), obs[:OBS_DIM])
     rng = np.random.default_rng(1)
     empty = felt = 0
     for k in range(8):
         obs, _, _, _, info = env.step(rng.uniform(-1, 1, 5).astype(np.float32))
-        v0_obs = env.unwrapped._observation()
+        v0_obs = v0_observation()
         expected = plain.update(v0_obs, info["approach"])
         assert env.observation_space.contains(obs)
         np.testing.assert_array_equal(obs[:TOUCHES_OFFSET], expected[:TOUCHES_OFFSET])
@@ -97,12 +102,19 @@ def test_each_touch_carries_its_pad_image() -> None:
 def test_registered_tactile_with_a_vector_entry_point() -> None:
     env = gym.make(TACTILE_ENV_ID, **KW)
     assert env.observation_space.shape == (TACTILE_OBS_DIM,)
-    assert isinstance(env.unwrapped, HapticExploreTactileEnv)
+    # one core, wrapped: the touch wrapper around the tactile observation wrapper around it
+    assert isinstance(env.unwrapped, HapticExploreEnv)
+    assert env.unwrapped.config.sensing == "tactile"
+    chain, inner = [], env
+    while isinstance(inner, gym.Wrapper):
+        chain.append(type(inner))
+        inner = inner.env
+    assert chain[-2:] == [HapticExploreTouchTactileEnv, HapticExploreTactileEnv]
     env.close()
     with pytest.raises(InvalidInputError, match="sensing"):
         HapticExploreTouchTactileEnv(**KW, sensing="exact")
     capacitive = HapticExploreTouchTactileEnv(**KW, skin="capacitive")  # 9 x 9 taxels: enough
-    assert capacitive.unwrapped.taxel_shape[1:] == (9, 9)
+    assert capacitive.env.taxel_shape[1:] == (9, 9)
     vec = gym.make_vec(TACTILE_ENV_ID, num_envs=2, workers=0, **KW)
     obs, _ = vec.reset(seed=0)
     assert obs.shape == (2, TACTILE_OBS_DIM)

@@ -20,8 +20,10 @@ TACTILE_ID = "hapticsim/HapticExploreTactile-v0"
 @pytest.mark.parametrize("backend", ["analytic", "mujoco"])
 def test_check_env_passes(backend: str) -> None:
     env = gym.make(TACTILE_ID, backend=backend, touch_budget=3)
-    check_env(env.unwrapped)
+    check_env(env.unwrapped)  # the core
     assert env.observation_space["taxels"].shape == (4, 31, 31)
+    with pytest.warns(UserWarning, match="different from the unwrapped"):  # as it says
+        check_env(HapticExploreTactileEnv(backend=backend, touch_budget=3))  # and its wrapper
 
 
 @pytest.mark.parametrize("backend", ["analytic", "mujoco"])
@@ -35,7 +37,7 @@ def test_the_last_contacts_images_are_observed_and_episodes_repeat(backend: str)
         for _ in range(4):
             obs, _, _, _, info = env.step(env.action_space.sample())
             seen.append(obs["taxels"])
-        return seen, env.contacts.points
+        return seen, env.unwrapped.contacts.points
 
     first, pts = episode()
     second, pts2 = episode()

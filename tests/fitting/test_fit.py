@@ -16,8 +16,7 @@ from hapticsim.data.bodies import get_body
 from hapticsim.data.io import Contacts, write_contacts
 from hapticsim.data.synthetic import paper_dataset
 from hapticsim.errors import HapticsimError, InvalidInputError
-from hapticsim.fitting import METHODS, FitResult, fit
-from hapticsim.fitting import kernels
+from hapticsim.fitting import METHODS, FitResult, fit, kernels
 from hapticsim.fitting import objective as objective_module
 from hapticsim.geometry import Superquadric, rotvec_to_matrix
 from hapticsim.metrics import volume_overlap
