@@ -46,16 +46,41 @@ def _cell(summary: dict[str, Any], metric: str) -> str:
     return f"{s['area_mean']:.3f}" + ("" if ci is None else f" ({ci[0]:.3f}-{ci[1]:.3f})")
 
 
+def _areas_on(result: dict[str, Any], touches: list[int]) -> dict[int, float]:
+    """Each episode's IoU area over the given touches (1-based), by seed; episodes with a touch
+    unscored among them are left out."""
+    out = {}
+    for episode in result["episodes"]:
+        values = [episode["touches"][t - 1]["iou"] for t in touches
+                  if t <= len(episode["touches"])]  # fmt: skip
+        if values and all(v is not None for v in values):
+            out[episode["seed"]] = float(np.mean(values))
+    return out
+
+
 def _paired_p(base: dict[str, Any], other: dict[str, Any]) -> tuple[float | None, int]:
+    """Wilcoxon's signed-rank test of two results' IoU areas on their common seeds, over the
+    touches both scored (all of them for two environment estimators)."""
     from scipy.stats import wilcoxon
 
-    a = dict(zip(base["seeds"], base["summary"]["iou"]["area"], strict=True))
-    b = dict(zip(other["seeds"], other["summary"]["iou"]["area"], strict=True))
-    common = [s for s in a if s in b and a[s] is not None and b[s] is not None]
+    touches = sorted(set(_scored(base)) & set(_scored(other)))
+    a, b = _areas_on(base, touches), _areas_on(other, touches)
+    common = [s for s in a if s in b]
     if len(common) < 2:
         return None, len(common)
     d = np.array([b[s] - a[s] for s in common])
     return (1.0 if not np.any(d) else float(wilcoxon(d).pvalue)), len(common)
+
+
+def _scored(result: dict[str, Any]) -> list[int]:
+    """The touches a results file scored (every touch in files made before they said)."""
+    return result.get("scored_touches") or list(range(1, result["task"]["touches"] + 1))
+
+
+def _final(result: dict[str, Any]) -> float | None:
+    """The mean IoU at the last touch scored."""
+    scored = [v for v in result["summary"]["iou"]["mean_curve"] if v is not None]
+    return scored[-1] if scored else None
 
 
 def leaderboard(results: list[dict[str, Any]]) -> str:
@@ -71,16 +96,24 @@ def leaderboard(results: list[dict[str, Any]]) -> str:
                   + " | final IoU | vs first row: p (paired, n) |",
                   "|" + "---|" * (len(COLUMNS) + 6)]  # fmt: skip
         for i, r in enumerate(rows):
-            final = r["summary"]["iou"]["mean_curve"][-1]
+            final = _final(r)
             p, n = _paired_p(rows[0], r) if i else (None, 0)
             vs = "baseline" if i == 0 else ("-" if p is None else f"{p:.3g} ({n})")
             cells = " | ".join(_cell(r["summary"], m) for m, _ in COLUMNS)
-            lines.append(f"| {r['policy']} | {r['estimator']} | {r['split']} | "
-                         f"{len(r['seeds'])} | {cells} | {final:.3f} | {vs} |")  # fmt: skip
+            scored = _scored(r)
+            estimator = r["estimator"] + (
+                "" if len(scored) == r["task"]["touches"]
+                else f" (at {', '.join(map(str, scored))})"
+            )
+            shown = "-" if final is None else f"{final:.3f}"
+            lines.append(f"| {r['policy']} | {estimator} | {r['split']} | "
+                         f"{len(r['seeds'])} | {cells} | {shown} | {vs} |")  # fmt: skip
         lines.append("")
-    lines.append("Areas: the mean over touches 1..T of each episode's curve, averaged over "
-                 "episodes (95 % t interval); higher is better for IoU and F-score, lower for "
-                 "epsilon and Chamfer.")  # fmt: skip
+    lines.append("Areas: the mean over touches 1..T of each episode's curve (over the touches "
+                 "named where an estimator is scored at some only), averaged over episodes "
+                 "(95 % t interval); higher is better for IoU and F-score, lower for epsilon and "
+                 "Chamfer. The paired test compares IoU areas over the touches both rows scored."
+                 )  # fmt: skip
     return "\n".join(lines) + "\n"
 
 
@@ -93,7 +126,8 @@ def _curves_png(rows: list[dict[str, Any]], task: str) -> bytes:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for r in rows:
         curve = r["summary"]["iou"]["mean_curve"]
-        ax.plot(range(1, len(curve) + 1), curve, marker="o", ms=3,
+        shown = [(t, v) for t, v in enumerate(curve, start=1) if v is not None]
+        ax.plot([t for t, _ in shown], [v for _, v in shown], marker="o", ms=3,
                 label=f"{r['policy']} ({r['estimator']})")  # fmt: skip
     ax.set_xlabel("touches")
     ax.set_ylabel("mean IoU")

@@ -1,7 +1,18 @@
 """``hapticsim bench run``: a policy on a task's episodes, every metric after every touch.
 
-After each touch the environment's current estimate (its incremental nH fitter, the
-``"env-nH"`` estimator) is scored against the truth:
+After each touch an estimate is scored against the truth. The estimators:
+
+- ``env-nH`` (default): the environment's own incremental nH fit, every touch;
+- ``env-multi``: the environment's fit schedule with full fits by ``multi`` (a union of
+  superquadrics), every touch;
+- ``nML``, ``multi``, ``gpis`` and a lab's fitter ``MODULE:ATTR`` (``fit(points, normals)``
+  returning a solid or anything holding one, as the suites' ``--fitter``): fitted from scratch
+  on the contacts the episode has gathered (the environment running ``env-nH``, so the touches
+  are the same as ``env-nH``'s for the same policy and seed) at touches
+  :data:`SCORED_TOUCHES` and the last only (they are slow); the other touches hold no metrics,
+  and the results say which were scored (``scored_touches``).
+
+The metrics:
 
 - ``iou`` and ``epsilon`` (alpha + beta; 1 before the first fit) by Monte Carlo volumes
   (:func:`hapticsim.metrics.score`, seed 0);
@@ -27,8 +38,15 @@ import numpy as np
 from hapticsim.bench.tasks import PROTOCOL, Task, get_task
 from hapticsim.errors import InvalidInputError
 
-#: Estimators the runner knows (a lab's own comes as ``MODULE:ATTR``, not yet: see the docs).
-ESTIMATORS: tuple[str, ...] = ("env-nH",)
+#: The environment's own estimators, scored after every touch: name -> its fit schedule's method.
+ENV_ESTIMATORS: dict[str, str] = {"env-nH": "nH", "env-multi": "multi"}
+#: Estimators fitted from scratch at :data:`SCORED_TOUCHES` (a lab's own comes as
+#: ``MODULE:ATTR``).
+FIT_ESTIMATORS: tuple[str, ...] = ("nML", "multi", "gpis")
+#: Every built-in estimator.
+ESTIMATORS: tuple[str, ...] = (*ENV_ESTIMATORS, *FIT_ESTIMATORS)
+#: The touches at which a fitted estimator is scored (and the episode's last).
+SCORED_TOUCHES: tuple[int, ...] = (5, 10, 20)
 #: Metrics after every touch, in the results' order.
 METRICS: tuple[str, ...] = (
     "iou", "epsilon", "chamfer_mm", "f_score_1", "f_score_2.5", "f_score_5",
@@ -46,11 +64,12 @@ class EpisodeTask:
     task: str
     policy: str
     seed: int
+    estimator: str = "env-nH"
 
     @property
     def label(self) -> str:
         """The episode in messages."""
-        return f"{self.task} {self.policy} seed {self.seed}"
+        return f"{self.task} {self.policy} {self.estimator} seed {self.seed}"
 
 
 def touch_metrics(estimate: Any, truth: Any) -> dict[str, Any]:
@@ -89,15 +108,67 @@ def checked_action(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
     return action
 
 
+def check_estimator(name: Any) -> str:
+    """`name` if it is a built-in estimator or a loadable ``MODULE:ATTR`` fitter, else one line
+    naming the problem."""
+    from hapticsim.errors import ChoiceError
+    from hapticsim.suites.plugins import load_fitter
+
+    if isinstance(name, str) and ":" in name:
+        load_fitter(name)  # imports it, or says why not
+        return name
+    if name not in ESTIMATORS:
+        raise ChoiceError("estimator", name, (*ESTIMATORS, "MODULE:ATTR"))
+    return name
+
+
+def _fitted(estimator: str, points: np.ndarray, normals: np.ndarray, seed: int) -> Any:
+    """A fitted estimator's solid from the contacts so far (None where it cannot fit them)."""
+    from hapticsim.errors import HapticsimError
+    from hapticsim.fitting import fit
+    from hapticsim.suites.plugins import as_solid, load_fitter
+
+    if ":" in estimator:  # a lab's fitter: what goes wrong is said in one line
+        try:
+            value = load_fitter(estimator)(points.copy(), normals.copy())
+        except Exception as exc:  # noqa: BLE001 - any failure of the lab's code
+            detail = " ".join(str(exc).split())
+            raise InvalidInputError(
+                f"the estimator {estimator} failed on {len(points)} contacts: "
+                f"{type(exc).__name__}: {detail}"
+            ) from None
+        return as_solid(value)
+    try:
+        return fit(points, normals, method=estimator, rng=seed).solid
+    except HapticsimError:
+        return None  # too few contacts or no closed level set yet: scored as no fit
+
+
+def _stored(estimate: Any) -> dict[str, Any] | None:
+    """An estimate as the results keep it: its JSON, but a mesh (GPIS's) only by its size (its
+    vertices would make a results file of hundreds of megabytes)."""
+    if estimate is None:
+        return None
+    if estimate.kind == "mesh":
+        return {"mesh_faces": int(len(estimate.faces)), "volume": float(estimate.volume)}
+    return estimate.to_dict()
+
+
 def run_episode(job: EpisodeTask) -> dict[str, Any]:
     """One episode of a task (module-level: the executor maps it)."""
+    from dataclasses import replace
+
+    from hapticsim.envs.estimator import FitSchedule
     from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
     from hapticsim.envs.policies import Policy
 
     task = get_task(job.task)
     kwargs = task.env_kwargs()
+    live = job.estimator in ENV_ESTIMATORS
+    if job.estimator == "env-multi":
+        kwargs["fit"] = replace(FitSchedule(), method=ENV_ESTIMATORS["env-multi"])
     env = make_v0(**kwargs)
-    core = env.unwrapped  # the truth and the estimate
+    core = env.unwrapped  # the truth, the estimate and the contacts
     try:
         policy = make_bench_policy(job.policy, env, job.seed)
         obs, _ = env.reset(seed=job.seed)
@@ -109,12 +180,25 @@ def run_episode(job: EpisodeTask) -> dict[str, Any]:
             action = checked_action(job.policy, policy(obs), env.action_space.shape)
             obs, _, terminated, truncated, info = env.step(action)
             row = {"wall_s": time.perf_counter() - wall, "cpu_s": time.process_time() - cpu}
-            estimate = core.estimate
+            done = terminated or truncated
+            touch = len(touches) + 1
+            if live:
+                estimate = core.solid
+            elif touch in SCORED_TOUCHES or done:
+                c = core.contacts
+                start, cpu = time.perf_counter(), time.process_time()
+                estimate = _fitted(job.estimator, c.points, c.normals, job.seed)
+                row["fit_wall_s"] = time.perf_counter() - start
+                row["fit_cpu_s"] = time.process_time() - cpu
+            else:
+                row |= dict.fromkeys(METRICS[:-2])  # not scored at this touch
+                row["contacts"] = int(info["n_contacts"])
+                touches.append(row)
+                continue
             row |= touch_metrics(estimate, core.truth)
             row["contacts"] = int(info["n_contacts"])
-            row["estimate"] = None if estimate is None else estimate.to_dict()
+            row["estimate"] = _stored(estimate)
             touches.append(row)
-            done = terminated or truncated
         truth = core.truth.to_dict() if core.truth.kind != "mesh" else None
     finally:
         env.close()
@@ -151,6 +235,14 @@ def _summary(episodes: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
+def scored_touches(estimator: str, touches: int) -> list[int]:
+    """The touches (1-based) at which `estimator` is scored in an episode of `touches` touches
+    (module docstring; an episode that ends early is scored at its last touch too)."""
+    if estimator in ENV_ESTIMATORS:
+        return list(range(1, touches + 1))
+    return sorted({t for t in SCORED_TOUCHES if t <= touches} | {touches})
+
+
 def run_bench(
     task: str, policy: str, episodes: int, estimator: str = "env-nH", split: str = "test",
     workers: int | None = 1, scheduler: str | None = None, progress: bool = True,
@@ -167,14 +259,10 @@ def run_bench(
     from hapticsim.suites.provenance import manifest
 
     spec: Task = get_task(task)
-    if estimator not in ESTIMATORS:
-        raise InvalidInputError(
-            f"`estimator` must be one of {', '.join(ESTIMATORS)} (the environment's own nH "
-            f"fit; other estimators are not in this protocol version yet), got {estimator!r}"
-        )
+    check_estimator(estimator)
     seeds = spec.seeds(split, episodes)
     _check_policy(policy, spec)
-    jobs = [EpisodeTask(task, policy, s) for s in seeds]
+    jobs = [EpisodeTask(task, policy, s, estimator) for s in seeds]
     start = time.perf_counter()
     rows = parallel_map(run_episode, jobs, workers=None if scheduler else workers,
                         desc=f"bench {task}", progress=progress, names=lambda j: j.label,
@@ -182,6 +270,7 @@ def run_bench(
     return {
         "protocol": PROTOCOL, "task": spec.to_dict(), "policy": policy, "estimator": estimator,
         "split": split, "seeds": seeds, "metrics": list(METRICS),
+        "scored_touches": scored_touches(estimator, spec.touches),
         "f_score_thresholds_mm": [1.0, 2.5, 5.0], "episodes": rows,
         "summary": _summary(rows), "seconds": time.perf_counter() - start,
         "manifest": manifest(command),
@@ -210,5 +299,6 @@ def write_results(results: dict[str, Any], path: str | Path) -> Path:
     return write_text_atomic(path, json.dumps(results, separators=(",", ":")) + "\n")
 
 
-__all__ = ["ESTIMATORS", "METRICS", "run_bench", "run_episode", "touch_metrics",
+__all__ = ["ENV_ESTIMATORS", "ESTIMATORS", "FIT_ESTIMATORS", "METRICS", "SCORED_TOUCHES",
+           "check_estimator", "run_bench", "run_episode", "scored_touches", "touch_metrics",
            "write_results"]  # fmt: skip

@@ -84,7 +84,12 @@ def test_bad_input_is_one_line_and_no_file(tmp_path: Path, capsys: pytest.Captur
         (["bench", "run", "paper/exact/analytic/t20", "--policy", "no_such_lab:Policy"],
          "no_such_lab"),
         (["bench", "run", "paper/exact/analytic/t20", "--policy", "random", "--estimator",
-          "gpis"], "estimator"),
+          "nH"], "`estimator` must be one of"),
+        (["bench", "run", "paper/exact/analytic/t20", "--policy", "random", "--estimator",
+          "no_such_lab:fit"], "no_such_lab"),
+        (["bench", "run", "paper/exact/analytic/t20", "--policy", "random", "--estimator",
+          "tests.bench.test_bench:failing_fit", "--episodes", "1", "--workers", "1"],
+         "the estimator tests.bench.test_bench:failing_fit failed on"),
         (["bench", "run", "paper/exact/analytic/t20", "--policy",
           "tests.bench.test_bench:NanPolicy", "--episodes", "1", "--workers", "1"], "non-finite"),
     ]  # fmt: skip
@@ -93,6 +98,45 @@ def test_bad_input_is_one_line_and_no_file(tmp_path: Path, capsys: pytest.Captur
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and words in err[0], err
         assert not out.exists()
+
+
+def test_fitted_estimators_score_the_same_touches_at_the_stated_points(results: dict) -> None:
+    # nML and a lab's fitter on the contacts of env-nH's episodes: the same touches, scored at
+    # 5, 10 and 20 only; the environment's multi schedule is scored at every touch
+    fitted = run_bench("paper/exact/analytic/t20", "uncertainty", 2, estimator="nML",
+                       workers=1, progress=False)  # fmt: skip
+    lab = run_bench("paper/exact/analytic/t20", "uncertainty", 2,
+                    estimator="tests.suites.lab_plugins:nh_fit", workers=1, progress=False)
+    assert fitted["scored_touches"] == lab["scored_touches"] == [5, 10, 20]
+    assert results["scored_touches"] == list(range(1, 21))
+    for run in (fitted, lab):
+        for mine, env in zip(run["episodes"], results["episodes"], strict=True):
+            assert [t["contacts"] for t in mine["touches"]] == [
+                t["contacts"] for t in env["touches"]]  # the same touches
+            assert mine["touches"][5]["iou"] is None and mine["touches"][4]["iou"] is not None
+            truth = solid_from_dict(mine["truth"])
+            row = mine["touches"][19]
+            assert row["fit_wall_s"] > 0 and row["iou"] > 0.5
+            from hapticsim.metrics import volume_overlap
+
+            overlap = volume_overlap(solid_from_dict(row["estimate"]), truth, samples=200_000,
+                                     rng=5)  # fmt: skip
+            assert abs(row["iou"] - overlap.iou) <= 0.02
+        curve = run["summary"]["iou"]["mean_curve"]
+        assert curve[5] is None and curve[19] is not None
+    text = leaderboard([results, fitted, lab])
+    assert "| uncertainty | nML (at 5, 10, 20) | test | 2 |" in text
+    row = [line for line in text.splitlines() if "nML" in line][0]
+    assert row.rstrip().endswith("(2) |")  # paired on the touches both scored
+    union = run_bench("paper/exact/analytic/t20", "uncertainty", 1, estimator="env-multi",
+                      workers=1, progress=False)  # fmt: skip
+    scored = [t for t in union["episodes"][0]["touches"] if t["estimate"] is not None]
+    assert len(scored) >= 15 and all("parts" in t["estimate"] for t in scored)
+
+
+def failing_fit(points: np.ndarray, normals: np.ndarray) -> None:
+    """A lab's estimator that fails (for the bad-input test)."""
+    raise RuntimeError("no convergence\n(as a lab's fitter might say)")
 
 
 class NanPolicy:
