@@ -50,6 +50,8 @@ def _explore_epilog() -> str:
         ("random_tapered", "a random tapered superquadric, drawn from --seed"),
         ("random_composite", "a union of 2-4 overlapping random superquadrics, drawn from"
                              " --seed"),
+        ("random_holed", "a random ring (a supertoroid: a superquadric with a hole), drawn from"
+                         " --seed"),
         ("mesh", "a closed .stl, .obj, .ply or .off file in metres (--scale converts);"
                  " centred at its centroid unless --pose; non-convex ones need coacd"),
         ("pybullet:NAME", "a model of the installed pybullet_data (extra objects): duck,"
@@ -137,6 +139,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         raise InvalidInputError("--noise and --free-space are for --method nML and multi only")
     if args.parts is not None and args.method != "multi":
         raise InvalidInputError("--parts is for --method multi only")
+    if args.holes and args.method != "multi":
+        raise InvalidInputError("--holes is for --method multi only")
     # Every file is read and checked before the first fit: a bad one costs no fitting time.
     inputs = [_fit_inputs(path, args) for path in args.contacts]
     compiling = start_background(args.method)  # a fresh installation: in parallel, with progress
@@ -165,6 +169,7 @@ def _fit_inputs(path: str, args: argparse.Namespace) -> tuple[Any, dict]:
         extra["noise"] = args.noise
     if args.method == "multi":
         extra["parts"] = args.parts
+        extra["holes"] = args.holes
     if args.contact_sigma:
         if "sigma" not in contacts.extra:
             raise InvalidInputError(
@@ -221,6 +226,7 @@ def _explore_from_args(args: argparse.Namespace) -> dict:
         sensing=args.sensing,
         skin=args.skin,
         taxel_model=args.taxel_model,
+        holes=args.holes,
     )
 
 
@@ -268,7 +274,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "body",
         help=f"one of {', '.join(BODY_NAMES)}, a superquadric or union JSON file, random, "
-        "random_tapered or random_composite (drawn from --seed)",
+        "random_tapered, random_composite or random_holed (drawn from --seed)",
     )  # fmt: skip
     p.add_argument("--noise", type=float, default=0.1, help="relative noise sigma_N (default 0.1)")
     p.add_argument("--seed", type=_seed, default=0)
@@ -294,12 +300,17 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     p.add_argument(
         "--method", choices=FIT_METHODS, default="nH",
-        help="the paper's LS, H, nLS, nH (SPEC §3), nML: maximum likelihood for noisy data, or "
-        "multi: a union of superquadrics (SPEC §10)",
+        help="the paper's LS, H, nLS, nH (SPEC §3), nML: maximum likelihood for noisy data, "
+        "multi: a union of superquadrics (SPEC §10), gpis: a GP implicit surface, or "
+        "supertoroid: a superquadric with a hole",
     )  # fmt: skip
     p.add_argument(
         "--parts", type=_parts, default=None, metavar="K|auto",
         help="multi: the number of parts, or auto (default: chosen by its criterion, up to 4)",
+    )  # fmt: skip
+    p.add_argument(
+        "--holes", action="store_true",
+        help="multi: also fit a supertoroid and keep it where it explains the contacts better",
     )  # fmt: skip
     p.add_argument(
         "--noise", type=float, default=None,
@@ -338,7 +349,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--object", default="cube",
         help="a body name, a superquadric or union .json, random, random_tapered, "
-        "random_composite, a mesh file (.stl/.obj/.ply/.off) or pybullet:NAME; default cube "
+        "random_composite, random_holed, a mesh file (.stl/.obj/.ply/.off) or pybullet:NAME; "
+        "default cube "
         "(kinds below)",
     )  # fmt: skip
     p.add_argument(
@@ -355,6 +367,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--noise", type=float, default=0.0, help="sensor noise sigma_N (default 0)")
     p.add_argument("--method", choices=FIT_METHODS, default="nH")
+    p.add_argument("--holes", action="store_true", help="--method multi: also fit a "
+                   "supertoroid and keep it where it explains the contacts better")  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(
         "--out", default=None, help="output directory (default runs/OBJECT-STRATEGY-seedN)"

@@ -27,6 +27,7 @@ from hapticsim.data.objects import (
     _check_range,
     as_spec,
     random_composite,
+    random_holed,
     random_superquadric,
 )
 from hapticsim.errors import ChoiceError, InvalidInputError
@@ -34,7 +35,9 @@ from hapticsim.geometry import rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
 
 #: Kinds of object distributions.
-OBJECT_KINDS: tuple[str, ...] = ("paper", "random", "random_tapered", "random_composite")
+OBJECT_KINDS: tuple[str, ...] = (
+    "paper", "random", "random_tapered", "random_composite", "random_holed",
+)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -108,6 +111,8 @@ class ObjectDistribution:
             shape: Solid = get_body(self.bodies[int(rng.integers(len(self.bodies)))])
         elif self.kind == "random_composite":
             shape = random_composite(rng)
+        elif self.kind == "random_holed":
+            shape = random_holed(rng)
         else:
             shape = random_superquadric(
                 rng, self.kind == "random_tapered", self.a_range, self.eps_range, self.taper_range

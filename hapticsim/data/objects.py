@@ -11,6 +11,7 @@ superquadric, a union of superquadrics or a mesh). The kinds (:data:`OBJECT_KIND
 ``random``            a random superquadric without taper, drawn from the seed
 ``random_tapered``    a random tapered superquadric, drawn from the seed
 ``random_composite``  a union of 2-4 overlapping random superquadrics (:func:`random_composite`)
+``random_holed``      a random ring, a supertoroid (:func:`random_holed`)
 ``mesh``              a mesh file (STL, OBJ, PLY, OFF, GLB or glTF, read by trimesh), metres
                       times ``scale``
 ``pybullet``          ``pybullet:NAME``, a model of the installed ``pybullet_data``
@@ -59,10 +60,11 @@ Array = NDArray[np.float64]
 
 #: Object kinds an :class:`ObjectSpec` can name.
 OBJECT_KINDS: tuple[str, ...] = (
-    "body", "superquadric", "random", "random_tapered", "random_composite", "mesh", "pybullet"
+    "body", "superquadric", "random", "random_tapered", "random_composite", "random_holed",
+    "mesh", "pybullet",
 )  # fmt: skip
 #: Names of the random kinds (drawn from a seed).
-RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered", "random_composite")
+RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered", "random_composite", "random_holed")
 #: Mesh file formats (suffixes) read through trimesh.
 MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 #: Default ranges of random superquadrics: semi-axes [m], exponents, tapers.
@@ -72,10 +74,10 @@ RANDOM_TAPER_RANGE: tuple[float, float] = (-0.4, 0.4)
 
 #: One line naming every object kind, for help texts.
 OBJECT_HELP: str = (
-    "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric or union .json file, "
-    "random / random_tapered / random_composite (drawn from the seed), a mesh file (.stl, .obj, "
-    ".ply, .off, .glb; metres unless scaled), or pybullet:NAME (duck, mug, random/017, ...; "
-    "extra objects)"
+    "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric or union .json "
+    "file, random / random_tapered / random_composite / random_holed (drawn from the seed), a "
+    "mesh file (.stl, .obj, .ply, .off, .glb; metres unless scaled), or pybullet:NAME (duck, "
+    "mug, random/017, ...; extra objects)"
 )
 
 Truth = Solid
@@ -131,6 +133,33 @@ COMPOSITE_A_RANGE: tuple[float, float] = (0.008, 0.03)
 COMPOSITE_RADIUS: float = 0.08
 #: Least share of each part's volume outside the other parts (every part shows).
 COMPOSITE_SHOWS: float = 0.4
+
+
+#: Ranges of a random ring: the tube's half-widths [m], its exponents, the hole ratio.
+HOLED_A_RANGE: tuple[float, float] = (0.008, 0.016)
+HOLED_EPS_RANGE: tuple[float, float] = (0.3, 1.2)
+HOLED_HOLE_RANGE: tuple[float, float] = (1.6, 3.2)
+
+
+def random_holed(rng: np.random.Generator | int | None) -> Any:
+    """A random ring (a :class:`~hapticsim.geometry.supertoroid.Supertoroid`) of hand-held size,
+    its hole's centre at the origin: the tube's half-widths uniform in :data:`HOLED_A_RANGE`
+    (a1 = a2, a round ring, or a1 != a2 with equal chance), exponents in
+    :data:`HOLED_EPS_RANGE`, the hole ratio in :data:`HOLED_HOLE_RANGE`, a uniformly random
+    orientation (outer diameters 40-100 mm).
+
+    Args:
+        rng: seed or generator.
+    """
+    from hapticsim.geometry.supertoroid import Supertoroid
+
+    gen = as_generator(rng)
+    a = gen.uniform(*HOLED_A_RANGE, size=3)
+    if gen.random() < 0.5:
+        a[1] = a[0]
+    eps = gen.uniform(*HOLED_EPS_RANGE, size=2)
+    hole = float(gen.uniform(*HOLED_HOLE_RANGE))
+    return Supertoroid(a, eps, hole, random_rotation(gen), np.zeros(3))
 
 
 def random_composite(rng: np.random.Generator | int | None, parts: int | None = None) -> Any:
@@ -338,6 +367,8 @@ class ObjectSpec:
             shape = solid_from_json(self.source)
         elif self.kind == "random_composite":
             shape = random_composite(rng)
+        elif self.kind == "random_holed":
+            shape = random_holed(rng)
         else:
             shape = random_superquadric(rng, tapered=self.kind == "random_tapered")
         if self.scale != 1.0:
@@ -459,6 +490,7 @@ __all__ = [
     "as_spec",
     "load_mesh",
     "random_composite",
+    "random_holed",
     "random_superquadric",
     "resolve_object",
     "stl_bytes",

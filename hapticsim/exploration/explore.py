@@ -79,6 +79,7 @@ def explore(
     sensing: str = "exact",
     skin: Any = None,
     taxel_model: str = "hapticsim",
+    holes: bool = False,
 ) -> dict[str, Any]:
     """Explore an object with the simulated hand, fit, score and write the results.
 
@@ -113,6 +114,8 @@ def explore(
             ``"capacitive"``) or a ``.toml`` skin file.
         taxel_model: with tactile sensing, ``"hapticsim"`` (its own taxel model, default) or
             ``"mujoco"`` (MuJoCo's ``<tactile>`` sensor).
+        holes: with ``method="multi"``, also fit a supertoroid and keep it where it explains
+            the contacts better (:func:`hapticsim.fitting.fit`'s ``holes``).
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
@@ -149,7 +152,7 @@ def explore(
     scene = SceneConfig(hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
                         taxel_model=taxel_model)  # fmt: skip
     trial = Trial(object=spec, explorer=strategy, count=count, noise=noise, estimator=method,
-                  seed=seed, scene=scene)  # fmt: skip
+                  seed=seed, scene=scene, holes=holes)  # fmt: skip
     video_config = None if video is None else VideoConfig(format=video)
     if video_config is not None:
         check_video_support(video_config)

@@ -200,6 +200,8 @@ def _estimate(
             extra["sigma"], extra["sigma_normal"] = run.arrays["sigma"], run.arrays["sigma_normal"]
     elif trial.free_space and trial.estimator == "multi":
         extra = {"free": free_space}
+    if trial.holes:
+        extra["holes"] = True
     result = fit(points, normals, method=trial.estimator, budget=DEFAULT_BUDGET,
                  rng=seeds.rng("fit"), **extra)  # fmt: skip
     info = {"fitter": trial.estimator, "budget": int(DEFAULT_BUDGET),

@@ -106,6 +106,8 @@ class Trial:
         free_space: hand the estimator the fingertip centres along the run (nML keeps its
             solid away from them, multi scores its candidates by them). Suites fixed before
             this existed leave it off.
+        holes: with the ``multi`` estimator, also fit a supertoroid and keep it where it
+            explains the contacts better (:func:`hapticsim.fitting.fit`'s ``holes``).
 
     Raises:
         InvalidInputError: an unknown object, explorer or estimator (the message lists the
@@ -120,6 +122,7 @@ class Trial:
     seed: int = 0
     scene: Any = field(default_factory=_scene_config)
     free_space: bool = True
+    holes: bool = False
 
     def __post_init__(self) -> None:
         from hapticsim.data.objects import ObjectSpec
@@ -140,6 +143,11 @@ class Trial:
         check_explorer(self.explorer)
         if not isinstance(self.estimator, str) or self.estimator not in FIT_METHODS:
             raise ChoiceError("method", self.estimator, FIT_METHODS)
+        if not isinstance(self.holes, bool) or (self.holes and self.estimator != "multi"):
+            raise InvalidInputError(
+                f"`holes` is for the multi estimator, got holes={self.holes!r} with "
+                f"{self.estimator}"
+            )
         object.__setattr__(self, "noise", finite_float(self.noise, "noise", low=0.0))
         object.__setattr__(self, "seed", positive_int(self.seed, "seed", minimum=0))
         count = positive_int(self.count, "count", minimum=MIN_CONTACTS, maximum=MAX_CONTACTS)

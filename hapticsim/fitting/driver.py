@@ -35,6 +35,7 @@ from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
 from hapticsim.fitting.multi import multi_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult, PartSelection
+from hapticsim.fitting.toroid import choose_holed, fit_supertoroid, toroid_residuals
 from hapticsim.fitting.uncertainty import laplace
 from hapticsim.geometry.eof import DISTANCES, ContactSet
 from hapticsim.geometry.superquadric import N_PARAMS, Superquadric, superquadric_arg
@@ -79,6 +80,7 @@ def fit(
     sigma_normal: Any | None = None,
     parts: int | str | None = None,
     uncertainty: bool = False,
+    holes: bool = False,
 ) -> FitResult:
     """Fit a superquadric to contact points (and normals) with the paper's methods or nML, or a
     union of superquadrics with ``multi``.
@@ -93,8 +95,9 @@ def fit(
             or ``"multi"``, a union of superquadrics (:mod:`hapticsim.fitting.multi`; needs
             normals; its one-part candidate is nH with this budget and seed), or ``"gpis"``,
             the zero level set of a Gaussian-process implicit surface as a mesh
-            (:mod:`hapticsim.fitting.gpis`, extra ``gpis``; needs normals; its ``superquadric``
-            is nH's fit with this budget and seed).
+            (:mod:`hapticsim.fitting.gpis`, extra ``gpis``; needs normals), or
+            ``"supertoroid"``, a superquadric with a hole (:mod:`hapticsim.fitting.toroid`;
+            needs normals).
         budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
         rng: seed or generator of the genetic algorithm; the same seed gives the same result,
             bit for bit.
@@ -123,8 +126,11 @@ def fit(
             ``"auto"``/None (default) to choose up to
             :data:`~hapticsim.fitting.multi.MAX_PARTS` by the criterion.
         uncertainty: also compute the Laplace approximation of the estimate's uncertainty
-            (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi
-            and gpis.
+            (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi,
+            gpis and supertoroid.
+        holes: multi only: also fit a supertoroid and keep it where it explains the contacts
+            better than the union by multi's criterion
+            (:func:`~hapticsim.fitting.toroid.choose_holed`; the costs in the selection record).
 
     Returns:
         The :class:`~hapticsim.fitting.result.FitResult`.
@@ -157,6 +163,8 @@ def fit(
             f"`noise` and `free` are for methods nML and multi only, got method {method}"
         )
     part_count = _parts_arg(parts, multi)
+    if holes and not multi:
+        raise InvalidInputError(f"`holes` is for method multi only, got method {method}")
     if uncertainty and method in SOLID_METHODS:
         raise InvalidInputError(
             f"`uncertainty` is for one superquadric, not for method {method}"
@@ -187,10 +195,17 @@ def fit(
     setup = prepare(method)  # load (or compile) the kernels outside the fit's own time
     start = time.perf_counter()
     if multi:
-        return _fit_multi(pts, nrm, n_evals, gen, weight, warm, distance, noise_level, free_pts,
-                          part_count, start)  # fmt: skip
+        result = _fit_multi(pts, nrm, n_evals, gen, weight, warm, distance, noise_level,
+                            free_pts, part_count, start)  # fmt: skip
+        return _with_ring(result, pts, nrm, weight, start) if holes else result
     if method == "gpis":
         return _fit_gpis(pts, nrm, start)
+    if method == "supertoroid":
+        ring, eof, used = fit_supertoroid(pts, nrm, weight)
+        return FitResult(solid=ring, method=method, eof=eof, evaluations=used,
+                         seconds=time.perf_counter() - start, history=(np.zeros(0, np.int64),
+                         np.zeros(0)), status="converged",
+                         message="least squares from starts on each principal axis")  # fmt: skip
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
     run = None
@@ -293,6 +308,32 @@ def _fit_multi(
         message=f"{len(shapes)} part(s) by {selection.criterion}",
         selection=selection,
     )
+
+
+def _with_ring(result: FitResult, pts: Array, nrm: Array, lam: float, start: float) -> FitResult:
+    """multi's union, or a supertoroid where it explains the contacts better
+    (:func:`~hapticsim.fitting.toroid.choose_holed`)."""
+    from dataclasses import replace
+
+    from hapticsim.fitting.multi import DISTANCE_FLOOR, NORMAL_FLOOR
+
+    sel = result.selection
+    assert sel is not None
+    sigma_d, sigma_n = sel.sigma_distance, sel.sigma_normal
+    if sigma_d is None or sigma_n is None:  # one part asked for: the criterion's floors
+        sigma_d = DISTANCE_FLOOR * float(np.mean(sel.baseline.superquadric.a))
+        sigma_n = NORMAL_FLOOR
+    ring, _, used = fit_supertoroid(pts, nrm, lam)
+    chosen, costs = choose_holed(result.solid, ring, pts, nrm, sigma_d, sigma_n)
+    record = {"costs": costs, "chosen": chosen.kind, "evaluations": used}
+    if chosen is ring:
+        eof = float(np.mean(toroid_residuals(ring, pts, nrm, lam) ** 2))
+        message = "a supertoroid, by the criterion against the union"
+    else:
+        eof, message = result.eof, result.message
+    return replace(result, solid=chosen, eof=eof, evaluations=result.evaluations + used,
+                   seconds=time.perf_counter() - start, message=message,
+                   selection=replace(sel, holes=record))  # fmt: skip
 
 
 def _fit_gpis(pts: Array, nrm: Array, start: float) -> FitResult:

@@ -51,6 +51,7 @@ METHOD_PARTS: dict[str, tuple[str, ...]] = {
     "nML": PARTS,
     "multi": ("eof-lm", "eof-ga", "ml-lm"),
     "gpis": (),  # numpy and scipy: no compiled kernel
+    "supertoroid": (),
 }
 
 _ready: set[str] = set()

@@ -13,22 +13,23 @@ Beyond the paper, :data:`FIT_METHODS` adds ``nML`` (points, normals, optionally 
 hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.ml`),
 ``multi`` (points, normals): a union of 1..K superquadrics (:mod:`hapticsim.fitting.multi`,
 SPEC §10), and ``gpis`` (points, normals): the field's Gaussian-process implicit surface, a mesh
-(:mod:`hapticsim.fitting.gpis`, extra ``gpis``). The paper reproduction compares :data:`METHODS`
-only.
+(:mod:`hapticsim.fitting.gpis`, extra ``gpis``), and ``supertoroid`` (points, normals): a
+superquadric with a hole (:mod:`hapticsim.fitting.toroid`). The paper reproduction compares
+:data:`METHODS` only.
 """
 
 from __future__ import annotations
 
 #: Method names, in the paper's order.
 METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
-#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML and multi.
-FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi", "gpis")
+#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML, multi, gpis and
+#: supertoroid.
+FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi", "gpis", "supertoroid")
 #: Methods whose objective uses the contact normals.
-NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis"})
-#: Methods whose estimate is a solid other than one superquadric (a union, a mesh): their
-#: result's ``superquadric`` is nH's one-part fit with the same budget and seed, and they have
-#: no Laplace uncertainty.
-SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis"})
+NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis", "supertoroid"})
+#: Methods whose estimate may be a solid other than one superquadric (a union, a mesh, a
+#: supertoroid): they have no Laplace uncertainty.
+SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis", "supertoroid"})
 #: Methods with the genetic algorithm.
 HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH", "nML"})
 #: Default evaluation budget of every method (EOF evaluations, SPEC §3). With the compiled
@@ -44,5 +45,5 @@ PAPER_BUDGET: int = 5000
 
 
 def uses_normals(method: str) -> bool:
-    """Whether `method` fits the normals too (nLS, nH, nML, multi, gpis)."""
+    """Whether `method` fits the normals too (nLS, nH, nML, multi, gpis, supertoroid)."""
     return method in NORMAL_METHODS

@@ -30,6 +30,9 @@ class PartSelection:
             :class:`FitResult`: estimate, EOF, evaluations, history).
         sigma_distance, sigma_normal: the criterion's noise scales ([m], [1]), None where one
             part was asked for.
+        holes: with ``holes=True``: the costs of the union and of a supertoroid by the same
+            criterion, the kind chosen and the ring's evaluations
+            (:func:`hapticsim.fitting.toroid.choose_holed`); else None.
     """
 
     parts: int
@@ -38,6 +41,7 @@ class PartSelection:
     baseline: FitResult
     sigma_distance: float | None = None
     sigma_normal: float | None = None
+    holes: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the keys above, ``baseline`` as its fit result's JSON."""
@@ -48,6 +52,7 @@ class PartSelection:
             "sigma_distance": self.sigma_distance,
             "sigma_normal": self.sigma_normal,
             "baseline": self.baseline.to_dict(),
+            **({} if self.holes is None else {"holes": self.holes}),
         }
 
 

@@ -1,7 +1,8 @@
 """Solids and their geometry: the :class:`Solid` interface every object is (SPEC §10), and its
 kinds: the :class:`Superquadric` (the model, its functions, parametrisations, volumes, meshes
-and sampling), the :class:`SuperquadricUnion` and the :class:`MeshSolid` (a closed triangle
-mesh); ray casting, the EOF and its compiled kernels.
+and sampling), the :class:`SuperquadricUnion`, the :class:`Supertoroid` (a superquadric with a
+hole) and the :class:`MeshSolid` (a closed triangle mesh); ray casting, the EOF and its
+compiled kernels.
 
 The bottom layer of hapticsim: depends on numpy (scipy, trimesh, manifold3d and coacd are
 imported lazily where a method needs them).
@@ -27,6 +28,7 @@ from hapticsim.geometry.rotations import (
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.geometry.solid_io import solid_from_dict, solid_from_json
 from hapticsim.geometry.superquadric import N_PARAMS, PARAM_NAMES, Superquadric
+from hapticsim.geometry.supertoroid import Supertoroid
 from hapticsim.geometry.union import SuperquadricUnion
 
 __all__ = [
@@ -36,6 +38,7 @@ __all__ = [
     "Solid",
     "Superquadric",
     "SuperquadricUnion",
+    "Supertoroid",
     "inside_outside",
     "log_inside_outside",
     "matrix_to_quaternion",

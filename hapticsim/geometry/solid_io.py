@@ -1,5 +1,6 @@
-"""Reading any solid from its JSON: a superquadric (SPEC §6), a union (SPEC §10), a closed
-triangle mesh (``{"mesh": {"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}}``, as
+"""Reading any solid from its JSON: a superquadric (SPEC §6), a union (SPEC §10), a supertoroid
+(``{"kind": "supertoroid", ...}``, SPEC §10's part kind with a hole), a closed triangle mesh
+(``{"mesh": {"vertices": [[x, y, z], ...], "faces": [[i, j, k], ...]}}``, as
 :meth:`MeshSolid.to_dict` writes it: a GPIS estimate), or a fit result holding any of them
 (``"solid"`` beside ``"superquadric"``)."""
 
@@ -13,7 +14,28 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
+from hapticsim.geometry.supertoroid import Supertoroid
 from hapticsim.geometry.union import SuperquadricUnion
+
+#: Part kinds of SPEC §10 and their readers (``"kind"`` absent: a superquadric).
+PART_KINDS: dict[str, Any] = {"superquadric": Superquadric.from_dict,
+                              "supertoroid": Supertoroid.from_dict}  # fmt: skip
+
+
+def part_from_dict(data: Any) -> Solid:
+    """One part by its ``"kind"`` (SPEC §10; absent: ``"superquadric"``).
+
+    Raises:
+        InvalidInputError: an unknown kind (the kinds named), or a malformed part.
+    """
+    from hapticsim.errors import ChoiceError
+
+    kind = data.get("kind", "superquadric") if isinstance(data, dict) else "superquadric"
+    if kind not in PART_KINDS:
+        raise ChoiceError("kind", kind, PART_KINDS)
+    if kind == "superquadric" and isinstance(data, dict) and "kind" in data:
+        data = {k: v for k, v in data.items() if k != "kind"}
+    return PART_KINDS[kind](data)
 
 
 def solid_from_dict(data: Any) -> Solid:
@@ -42,7 +64,7 @@ def solid_from_dict(data: Any) -> Solid:
             f"a solid must be a JSON object (a superquadric or a union), got "
             f"{type(data).__name__}"
         )
-    return Superquadric.from_dict(data)
+    return part_from_dict(data)
 
 
 def solid_from_json(path_or_text: str | Path) -> Solid:
@@ -51,4 +73,4 @@ def solid_from_json(path_or_text: str | Path) -> Solid:
     return solid_from_dict(read_json(path_or_text))
 
 
-__all__ = ["solid_from_dict", "solid_from_json"]
+__all__ = ["PART_KINDS", "part_from_dict", "solid_from_dict", "solid_from_json"]

@@ -100,7 +100,19 @@ class SuperquadricUnion(Solid):
             raise InvalidInputError("a union needs at least one part, got an empty `parts`")
         out = []
         for k, part in enumerate(parts):
+            kind = part.get("kind", "superquadric") if isinstance(part, dict) else None
             try:
+                if kind not in (None, "superquadric"):
+                    if kind == "supertoroid":
+                        raise InvalidInputError(
+                            "the parts of a union are superquadrics in this version; a "
+                            "supertoroid is a solid of its own"
+                        )
+                    raise InvalidInputError(
+                        f"`kind` must be one of superquadric, supertoroid, got {kind!r}"
+                    )
+                if isinstance(part, dict) and "kind" in part:
+                    part = {key: v for key, v in part.items() if key != "kind"}
                 out.append(Superquadric.from_dict(part))
             except InvalidInputError as exc:
                 raise InvalidInputError(f"part {k} of the union: {exc}") from exc

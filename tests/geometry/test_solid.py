@@ -15,6 +15,7 @@ from hapticsim.geometry import (
     Solid,
     Superquadric,
     SuperquadricUnion,
+    Supertoroid,
     random_rotation,
     solid_arg,
     solid_from_dict,
@@ -30,7 +31,12 @@ UNION = SuperquadricUnion((
     Superquadric(a=(0.01, 0.03, 0.025), eps=(0.2, 0.2), center=(-0.02, 0.02, 0.0)),
     Superquadric(a=(0.012, 0.012, 0.012), eps=(1.0, 1.0), center=(0.02, 0.0, 0.03)),
 ))  # fmt: skip
-SOLIDS = {"superquadric": TAPERED, "union": UNION, "mesh": l_block()}
+#: a ring with a squarish tube, tilted: the kind with a hole
+RING = Supertoroid(
+    a=(0.01, 0.014, 0.012), eps=(0.5, 1.2), hole=2.4,
+    rotation=random_rotation(np.random.default_rng(8)), center=(0.0, 0.01, -0.01),
+)  # fmt: skip
+SOLIDS = {"superquadric": TAPERED, "union": UNION, "mesh": l_block(), "supertoroid": RING}
 
 
 @pytest.fixture(params=list(SOLIDS), ids=list(SOLIDS))
@@ -113,7 +119,8 @@ def test_meshes_and_pieces(solid: Solid) -> None:
     # the pieces' vertices lie on (or, for a mesh's decomposition, within a few mm of) the surface
     assert np.median(solid.surface_distance(world)) < 2e-3
     assert solid.size > 0
-    assert solid.kind in ("superquadric", "union", "mesh") and solid.contact_reference
+    assert solid.kind in ("superquadric", "union", "mesh", "supertoroid")
+    assert solid.contact_reference
 
 
 def test_json_round_trip() -> None:

@@ -1,0 +1,185 @@
+"""Fitting a supertoroid (:class:`~hapticsim.geometry.supertoroid.Supertoroid`) to contacts with
+normals: ``fit(..., method="supertoroid")``; and the rule that decides between a ring and a union
+of superquadrics (``fit(..., method="multi", holes=True)``).
+
+**The error of fit.** As the paper's EOF (SPEC §2) with the tube in the place of the
+superquadric: in the body frame a contact has the tube coordinates ``u = r - hole`` (r the xy
+superellipse radius, in units of a1, a2) and ``w = z / a3``, and ``t = (|u|^(2/eps1) +
+|w|^(2/eps1))^(eps1/2)`` is 1 on the surface. D1 is the radial distance in the tube's
+cross-section, ``|p_t| |1 - 1/t|`` with ``p_t = (u s, w a3)`` the point's offset from the tube's
+centre line in metres (s the metres per unit of r at the point); D2 is ``||n - n'||^2`` with n'
+the analytic normal. The residual of a contact is ``|D1| + lambda sigma D2`` (sigma the mean
+of a1, a2, a3), its mean square the EOF.
+
+**The search.** Trust-region least squares (scipy's ``least_squares``) over (log a, eps, log(hole
+- 1), rotation vector, centre), from starts on each principal axis of the contacts as the ring's
+axis, with the ring's radius and the tube's size from the contacts' spread about that axis and
+eps = (1, 1) or (0.5, 0.5): each start takes a few steps, the two best go on to convergence,
+and the better end by EOF is the fit.
+
+**Ring or union** (:func:`choose_holed`): both candidates are scored by multi's robust criterion
+(:mod:`hapticsim.fitting.multi`: ``sum min(z^2, CAP^2) + P ln n``, z the contact's distance to
+the surface and its normal's chord over the noise levels of multi's record), with the distances
+and normals of each solid's own :meth:`~hapticsim.geometry.solid.Solid.contact_errors`; P is 12
+for the ring and 13 a part for the union. The smaller cost wins, and a ring must have at least
+:data:`MIN_INNER_SHARE` of the contacts on its inner wall, facing the axis (a hole nothing
+touched is not a hole).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim.constants import EPS_MAX, EPS_MIN
+from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
+from hapticsim.geometry.solid import Solid
+from hapticsim.geometry.supertoroid import HOLE_MAX, HOLE_MIN, Supertoroid
+
+Array = NDArray[np.float64]
+
+#: Parameters of a supertoroid: a (3), eps (2), hole, rotation vector (3), centre (3).
+N_TOROID_PARAMS: int = 12
+#: Starting exponents tried from each axis.
+START_EPS: tuple[tuple[float, float], ...] = ((1.0, 1.0), (0.5, 0.5))
+#: Least-squares steps of every start before the best are kept, and the most of a kept one.
+SCREEN_EVALUATIONS, MAX_EVALUATIONS = 25, 400
+#: Starts continued to convergence.
+KEPT_STARTS: int = 2
+#: The share of contacts a ring needs on its inner wall to be chosen (:func:`inner_share`): a
+#: hole that nothing touched is not a hole.
+MIN_INNER_SHARE: float = 0.05
+
+
+def _unpack(x: Array) -> Supertoroid:
+    a = np.exp(x[0:3])
+    eps = np.clip(x[3:5], EPS_MIN, EPS_MAX)
+    hole = float(np.clip(1.0 + np.exp(x[5]), HOLE_MIN, HOLE_MAX))
+    return Supertoroid(a, eps, hole, rotvec_to_matrix(x[6:9]), x[9:12])
+
+
+def _pack(t: Supertoroid) -> Array:
+    return np.concatenate([np.log(t.a), t.eps, [np.log(t.hole - 1.0)],
+                           matrix_to_rotvec(t.rotation), t.center])  # fmt: skip
+
+
+def toroid_residuals(t: Supertoroid, points: Array, normals: Array, lam: float = 0.5) -> Array:
+    """(n,) ``|D1| + lambda sigma D2`` of each contact (module docstring) [m]."""
+    b = t.to_body(points)
+    a1, a2, a3 = t.a
+    e1, e2 = t.eps
+    rho = np.hypot(b[:, 0], b[:, 1])
+    r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+    scale = np.where(r > 1e-12, rho / np.maximum(r, 1e-12), 0.5 * (a1 + a2))  # m per unit of r
+    u, w = r - t.hole, b[:, 2] / a3
+    tube = (np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)) ** (e1 / 2)
+    offset = np.hypot(u * scale, w * a3)
+    d1 = offset * np.abs(1.0 - 1.0 / np.maximum(tube, 1e-12))
+    d2 = np.sum((normals - t.normals(points)) ** 2, axis=1)
+    return np.abs(d1) + lam * float(np.mean(t.a)) * d2
+
+
+def _starts(points: Array) -> list[Array]:
+    center = points.mean(axis=0)
+    centered = points - center
+    _, axes = np.linalg.eigh(centered.T @ centered)
+    out = []
+    for k in range(3):  # each principal axis as the ring's axis
+        z = axes[:, k]
+        x = axes[:, (k + 1) % 3]
+        rot = np.column_stack([x, np.cross(z, x), z])
+        height = centered @ z
+        radial = np.linalg.norm(centered - height[:, None] * z, axis=1)
+        ring = float(np.median(radial))
+        tube = max(0.5 * (np.percentile(radial, 95) - np.percentile(radial, 5)) / 2, 0.1 * ring)
+        half = max(float(np.percentile(np.abs(height), 95)), 0.1 * ring)
+        hole = float(np.clip(ring / max(tube, 1e-6), 1.3, HOLE_MAX / 2))
+        for eps in START_EPS:
+            start = Supertoroid([ring / hole, ring / hole, half], eps, hole, rot, center)
+            out.append(_pack(start))
+    return out
+
+
+def fit_supertoroid(
+    points: Array, normals: Array, lam: float = 0.5
+) -> tuple[Supertoroid, float, int]:
+    """The supertoroid of least EOF (module docstring).
+
+    Args:
+        points: (n, 3) contacts [m, world]; normals: (n, 3) outward unit normals.
+        lam: weight of the normal term (SPEC §2's lambda).
+
+    Returns:
+        the fit, its EOF [m^2] and the residual evaluations used.
+    """
+    from scipy.optimize import least_squares
+
+    lo = np.array([-np.inf] * 3 + [EPS_MIN, EPS_MIN, np.log(HOLE_MIN - 1.0)] + [-np.inf] * 6)
+    hi = np.array([np.inf] * 3 + [EPS_MAX, EPS_MAX, np.log(HOLE_MAX - 1.0)] + [np.inf] * 6)
+    def residuals(x: Array) -> Array:
+        return toroid_residuals(_unpack(x), points, normals, lam)
+
+    def run(x0: Array, evaluations: int) -> Any:
+        return least_squares(residuals, np.clip(x0, lo + 1e-9, hi - 1e-9), bounds=(lo, hi),
+                             method="trf", max_nfev=evaluations, x_scale="jac")  # fmt: skip
+
+    # every start a few steps, then the most promising ones to convergence
+    first = sorted((run(x0, SCREEN_EVALUATIONS) for x0 in _starts(points)),
+                   key=lambda r: float(np.mean(r.fun**2)))  # fmt: skip
+    used = sum(int(r.nfev) for r in first)
+    best, best_eof = None, np.inf
+    for screened in first[:KEPT_STARTS]:
+        end = run(screened.x, MAX_EVALUATIONS)
+        used += int(end.nfev)
+        eof = float(np.mean(end.fun**2))
+        if eof < best_eof:
+            best, best_eof = _unpack(end.x), eof
+    evaluations = used * (1 + N_TOROID_PARAMS)  # each step's Jacobian by forward differences
+    assert best is not None
+    return best, best_eof, evaluations
+
+
+def holed_cost(solid: Solid, points: Array, normals: Array, sigma_distance: float,
+               sigma_normal: float) -> float:  # fmt: skip
+    """Multi's robust criterion of a candidate solid (module docstring)."""
+    from hapticsim.fitting.multi import CAP
+    from hapticsim.geometry.superquadric import N_PARAMS
+
+    distance, angle = solid.contact_errors(points, normals)
+    chord = 2.0 * np.sin(np.radians(angle) / 2.0)
+    z2 = (distance / sigma_distance) ** 2 + (chord / sigma_normal) ** 2
+    params = N_TOROID_PARAMS if solid.kind == "supertoroid" else N_PARAMS * len(solid.components)
+    return float(np.sum(np.minimum(z2, CAP**2)) + params * np.log(len(points)))
+
+
+def inner_share(ring: Supertoroid, points: Array, normals: Array) -> float:
+    """The share of contacts on the ring's inner wall: nearer the axis than the tube's centre
+    line, with normals facing the axis (their radial part below -0.5): where a hole was
+    touched. (A cylinder's pin-hole ring has contacts near the axis on its caps, whose normals
+    run along the axis.)"""
+    b = ring.to_body(points)
+    nb = np.asarray(normals) @ ring.rotation
+    a1, a2, _ = ring.a
+    e2 = ring.eps[1]
+    r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+    rho = np.maximum(np.hypot(b[:, 0], b[:, 1]), 1e-12)
+    radial = (nb[:, 0] * b[:, 0] + nb[:, 1] * b[:, 1]) / rho
+    return float(np.mean((r < ring.hole) & (radial < -0.5)))
+
+
+def choose_holed(
+    union: Solid, ring: Supertoroid, points: Array, normals: Array, sigma_distance: float,
+    sigma_normal: float,
+) -> tuple[Solid, dict[str, Any]]:  # fmt: skip
+    """The ring or the union, whichever costs less (module docstring); and the costs."""
+    costs = {"union": holed_cost(union, points, normals, sigma_distance, sigma_normal),
+             "supertoroid": holed_cost(ring, points, normals, sigma_distance, sigma_normal)}
+    inner = inner_share(ring, points, normals)
+    chosen = ring if costs["supertoroid"] < costs["union"] and inner >= MIN_INNER_SHARE else union
+    return chosen, {**costs, "inner_share": inner}
+
+
+__all__ = ["MIN_INNER_SHARE", "N_TOROID_PARAMS", "choose_holed", "fit_supertoroid",
+           "holed_cost", "inner_share", "toroid_residuals"]  # fmt: skip
