@@ -61,8 +61,9 @@ def add_bench_parser(sub: Any) -> None:
     p.add_argument("--policy", required=True, help="random, paper, uncertainty, information, "
                    "learned, learned-touch, learned:PATH, or a lab's class MODULE:ATTR")
     p.add_argument("--estimator", default="env-nH", help="env-nH (the environment's own fit, "
-                   "default), env-multi (its multi schedule), nML, multi, gpis or a lab's fitter "
-                   "MODULE:ATTR (fitted at touches 5, 10, 20 and the last)")  # fmt: skip
+                   "default), env-multi (its multi schedule), nML, multi, gpis, supertoroid or "
+                   "a lab's fitter MODULE:ATTR (fitted at touches 5, 10, 20 and the last)",
+                   )  # fmt: skip
     p.add_argument("--episodes", type=_positive_int, default=30)
     p.add_argument("--split", choices=("dev", "test"), default="test")
     p.add_argument("--out", required=True, help="results file (.json)")

@@ -5,8 +5,9 @@ After each touch an estimate is scored against the truth. The estimators:
 - ``env-nH`` (default): the environment's own incremental nH fit, every touch;
 - ``env-multi``: the environment's fit schedule with full fits by ``multi`` (a union of
   superquadrics), every touch;
-- ``nML``, ``multi``, ``gpis`` and a lab's fitter ``MODULE:ATTR`` (``fit(points, normals)``
-  returning a solid or anything holding one, as the suites' ``--fitter``): fitted from scratch
+- ``nML``, ``multi``, ``gpis``, ``supertoroid`` and a lab's fitter ``MODULE:ATTR``
+  (``fit(points, normals)`` returning a solid or anything holding one, as the suites'
+  ``--fitter``): fitted from scratch
   on the contacts the episode has gathered (the environment running ``env-nH``, so the touches
   are the same as ``env-nH``'s for the same policy and seed) at touches
   :data:`SCORED_TOUCHES` and the last only (they are slow); the other touches hold no metrics,
@@ -42,7 +43,7 @@ from hapticsim.errors import InvalidInputError
 ENV_ESTIMATORS: dict[str, str] = {"env-nH": "nH", "env-multi": "multi"}
 #: Estimators fitted from scratch at :data:`SCORED_TOUCHES` (a lab's own comes as
 #: ``MODULE:ATTR``).
-FIT_ESTIMATORS: tuple[str, ...] = ("nML", "multi", "gpis")
+FIT_ESTIMATORS: tuple[str, ...] = ("nML", "multi", "gpis", "supertoroid")
 #: Every built-in estimator.
 ESTIMATORS: tuple[str, ...] = (*ENV_ESTIMATORS, *FIT_ESTIMATORS)
 #: The touches at which a fitted estimator is scored (and the episode's last).

@@ -4,7 +4,9 @@ touch budget, each with a fixed dev split and a fixed test split of episode seed
 A task is named ``FAMILY/SENSING/BACKEND/tTOUCHES`` (``paper/exact/analytic/t20``):
 
 - families: ``paper`` (the paper's four bodies), ``random`` (random tapered superquadrics),
-  ``composite`` (unions of 2-4 superquadrics);
+  ``composite`` (unions of 2-4 superquadrics), ``holed`` (random rings: supertoroids, objects
+  with a hole; added to ``hapticsim-bench/1`` after its first tasks, which it leaves as they
+  were);
 - sensing: ``exact`` (the simulator's contacts), ``vision`` and ``capacitive`` (contacts
   estimated from taxel pads with those skin presets);
 - backends: ``analytic`` (ray casting on the exact surface) and ``mujoco`` (the hand);
@@ -26,7 +28,7 @@ from hapticsim.errors import ChoiceError, InvalidInputError
 PROTOCOL: str = "hapticsim-bench/1"
 #: Object families and the environment's distribution each draws from.
 FAMILIES: dict[str, str] = {"paper": "paper", "random": "random_tapered",
-                            "composite": "random_composite"}  # fmt: skip
+                            "composite": "random_composite", "holed": "random_holed"}  # fmt: skip
 #: Sensings: (the environment's sensing, skin preset).
 SENSINGS: dict[str, tuple[str, str | None]] = {
     "exact": ("exact", None), "vision": ("tactile", "vision"),

@@ -19,7 +19,8 @@ from hapticsim.geometry import solid_from_dict
 
 def test_tasks_are_named_and_their_splits_fixed() -> None:
     names = task_names()
-    assert len(names) == len(set(names)) == 36 and "paper/exact/analytic/t20" in names
+    assert len(names) == len(set(names)) == 48 and "paper/exact/analytic/t20" in names
+    assert "holed/vision/mujoco/t50" in names
     task = get_task("random/vision/mujoco/t50")
     assert task.name == "random/vision/mujoco/t50"
     assert task.env_kwargs()["skin"] == "vision" and task.env_kwargs()["touch_budget"] == 50
