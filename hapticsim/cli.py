@@ -52,6 +52,8 @@ def _explore_epilog() -> str:
                              " --seed"),
         ("random_holed", "a random ring (a supertoroid: a superquadric with a hole), drawn from"
                          " --seed"),
+        ("random_handled", "a random body with a ring handle (a union of a superquadric and a"
+                           " supertoroid), drawn from --seed"),
         ("mesh", "a closed .stl, .obj, .ply or .off file in metres (--scale converts);"
                  " centred at its centroid unless --pose; non-convex ones need coacd"),
         ("pybullet:NAME", "a model of the installed pybullet_data (extra objects): duck,"

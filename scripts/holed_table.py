@@ -2,13 +2,14 @@
 and multi's choice between a union and a ring (``multi`` with ``holes=True``), on the same
 contacts: the table of docs/objects.md ("Objects with holes").
 
-    python scripts/holed_table.py --out docs/objects/holed/holed_table.json   # ~10 min, 2 cores
+    python scripts/holed_table.py --out docs/objects/holed/holed_table.json   # ~8 min, 2 cores
 
-Families (none of their objects was seen while the supertoroid fit and the ring-or-union rule
-were written; those were tried on area-uniform samples of other random rings, the paper's
-bodies and random composites):
+Families (none of their objects was seen while the supertoroid fit and the rings-in-multi rule
+were written; those were tried on area-uniform samples of other random rings, bodies with
+handles (seeds 0-5), the paper's bodies and random composites):
 
 - ``holed``: random rings (``random_holed``, object seeds 100-109);
+- ``handled``: random bodies with a ring handle (``random_handled``, object seeds 300-309);
 - ``bodies``: the paper's four bodies, each in two random orientations (no hole: a ring chosen
   here is a hole where there is none);
 - ``composites``: random composites (object seeds 200-207; no hole either).
@@ -34,6 +35,7 @@ import numpy as np
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 HOLED_SEEDS = tuple(range(100, 110))
+HANDLED_SEEDS = tuple(range(300, 310))
 COMPOSITE_SEEDS = tuple(range(200, 208))
 BODIES = ("tapered_box", "cube", "cylinder", "ellipsoid")
 #: The estimators compared: (name, fit method, keyword arguments).
@@ -44,11 +46,13 @@ COUNTS = (150, 300)
 
 def _truth(family: str, index: int) -> Any:
     from hapticsim.data import get_body
-    from hapticsim.data.objects import random_composite, random_holed
+    from hapticsim.data.objects import random_composite, random_handled, random_holed
     from hapticsim.geometry import random_rotation
 
     if family == "holed":
         return random_holed(index)
+    if family == "handled":
+        return random_handled(index)
     if family == "composites":
         return random_composite(index)
     body = get_body(BODIES[index % 4])
@@ -92,13 +96,14 @@ def _task(task: tuple[str, int]) -> list[dict[str, Any]]:
         rows.append(row)
     print(f"{family:10s} {index:4d}: " + "; ".join(
         f"{r['count']}: " + ", ".join(f"{n} {r[n]['iou']:.3f}" for n, _, _ in ESTIMATORS)
-        + f" [{r['multi+holes']['kind']}]" for r in rows), file=sys.stderr, flush=True)  # fmt: skip
+        + f" [{r['multi+holes']['holes']['chosen']}]" for r in rows), file=sys.stderr,
+        flush=True)  # fmt: skip
     return rows
 
 
 def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
-    for family in ("holed", "bodies", "composites"):
+    for family in ("holed", "handled", "bodies", "composites"):
         for count in COUNTS:
             sel = [r for r in rows if r["family"] == family and r.get("count") == count]
             failed = sum(1 for r in rows if r["family"] == family and "error" in r)
@@ -115,7 +120,7 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
                 }
             if sel:
                 entry["ring_chosen_share"] = float(np.mean(
-                    [r["multi+holes"]["kind"] == "supertoroid" for r in sel]))  # fmt: skip
+                    [r["multi+holes"]["holes"]["chosen"] != "union" for r in sel]))  # fmt: skip
             out[f"{family}/{count}"] = entry
     return out
 
@@ -150,7 +155,8 @@ def main(argv: list[str] | None = None) -> int:
     record = manifest(command)  # at the start: the code that runs
     load = os.getloadavg()[0]
     start = time.perf_counter()
-    tasks = ([("holed", s) for s in HOLED_SEEDS] + [("bodies", k) for k in range(8)]
+    tasks = ([("holed", s) for s in HOLED_SEEDS] + [("handled", s) for s in HANDLED_SEEDS]
+             + [("bodies", k) for k in range(8)]
              + [("composites", s) for s in COMPOSITE_SEEDS])  # fmt: skip
     print(f"holed table: {len(tasks)} explorations on {args.workers} workers", file=sys.stderr)
     with Pool(args.workers) as pool:

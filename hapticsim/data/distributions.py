@@ -27,6 +27,7 @@ from hapticsim.data.objects import (
     _check_range,
     as_spec,
     random_composite,
+    random_handled,
     random_holed,
     random_superquadric,
 )
@@ -36,7 +37,7 @@ from hapticsim.geometry.solid import Solid
 
 #: Kinds of object distributions.
 OBJECT_KINDS: tuple[str, ...] = (
-    "paper", "random", "random_tapered", "random_composite", "random_holed",
+    "paper", "random", "random_tapered", "random_composite", "random_holed", "random_handled",
 )  # fmt: skip
 
 
@@ -113,6 +114,8 @@ class ObjectDistribution:
             shape = random_composite(rng)
         elif self.kind == "random_holed":
             shape = random_holed(rng)
+        elif self.kind == "random_handled":
+            shape = random_handled(rng)
         else:
             shape = random_superquadric(
                 rng, self.kind == "random_tapered", self.a_range, self.eps_range, self.taper_range

@@ -12,6 +12,7 @@ superquadric, a union of superquadrics or a mesh). The kinds (:data:`OBJECT_KIND
 ``random_tapered``    a random tapered superquadric, drawn from the seed
 ``random_composite``  a union of 2-4 overlapping random superquadrics (:func:`random_composite`)
 ``random_holed``      a random ring, a supertoroid (:func:`random_holed`)
+``random_handled``    a random body with a ring handle (:func:`random_handled`)
 ``mesh``              a mesh file (STL, OBJ, PLY, OFF, GLB or glTF, read by trimesh), metres
                       times ``scale``
 ``pybullet``          ``pybullet:NAME``, a model of the installed ``pybullet_data``
@@ -61,10 +62,12 @@ Array = NDArray[np.float64]
 #: Object kinds an :class:`ObjectSpec` can name.
 OBJECT_KINDS: tuple[str, ...] = (
     "body", "superquadric", "random", "random_tapered", "random_composite", "random_holed",
-    "mesh", "pybullet",
+    "random_handled", "mesh", "pybullet",
 )  # fmt: skip
 #: Names of the random kinds (drawn from a seed).
-RANDOM_KINDS: tuple[str, ...] = ("random", "random_tapered", "random_composite", "random_holed")
+RANDOM_KINDS: tuple[str, ...] = (
+    "random", "random_tapered", "random_composite", "random_holed", "random_handled",
+)  # fmt: skip
 #: Mesh file formats (suffixes) read through trimesh.
 MESH_SUFFIXES: tuple[str, ...] = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 #: Default ranges of random superquadrics: semi-axes [m], exponents, tapers.
@@ -75,7 +78,8 @@ RANDOM_TAPER_RANGE: tuple[float, float] = (-0.4, 0.4)
 #: One line naming every object kind, for help texts.
 OBJECT_HELP: str = (
     "a paper body (tapered_box, cube, cylinder, ellipsoid), a superquadric or union .json "
-    "file, random / random_tapered / random_composite / random_holed (drawn from the seed), a "
+    "file, random / random_tapered / random_composite / random_holed / random_handled (drawn "
+    "from the seed), a "
     "mesh file (.stl, .obj, .ply, .off, .glb; metres unless scaled), or pybullet:NAME (duck, "
     "mug, random/017, ...; extra objects)"
 )
@@ -160,6 +164,42 @@ def random_holed(rng: np.random.Generator | int | None) -> Any:
     eps = gen.uniform(*HOLED_EPS_RANGE, size=2)
     hole = float(gen.uniform(*HOLED_HOLE_RANGE))
     return Supertoroid(a, eps, hole, random_rotation(gen), np.zeros(3))
+
+
+def random_handled(rng: np.random.Generator | int | None) -> Any:
+    """A random body with a ring handle: a superquadric of hand-held size (semi-axes 22-35 mm,
+    exponents in [0.2, 1], upright) and a ring (:func:`random_holed`'s shape, its tube
+    4-7 mm) standing on its side with its axis tangent to the body, its centre set so that a
+    third of the ring's outer half-width lies inside the body, at a random height and side;
+    the union's volume centre at the origin.
+
+    Args:
+        rng: seed or generator.
+    """
+    from hapticsim.geometry.supertoroid import Supertoroid
+    from hapticsim.geometry.union import SuperquadricUnion
+
+    gen = as_generator(rng)
+    body = Superquadric(a=gen.uniform(0.022, 0.035, 3), eps=gen.uniform(0.2, 1.0, 2))
+    tube = gen.uniform(0.004, 0.007)
+    ring_shape = (np.array([tube, tube, gen.uniform(0.004, 0.008)]), gen.uniform(0.4, 1.0, 2),
+                  float(gen.uniform(2.0, 3.0)))  # fmt: skip
+    side = gen.uniform(-np.pi, np.pi)
+    out = np.array([np.cos(side), np.sin(side), 0.0])  # where the handle sticks out
+    height = gen.uniform(-0.4, 0.4) * body.a[2]
+    # the body's surface along `out` at that height (a ray from outside), then the ring there
+    reach = 4.0 * body.bounding_radius
+    start = np.array([0.0, 0.0, height]) + reach * out
+    depth = float(body.first_hits(start[None], -out[None], reach, (256, 32, 32))[0])
+    surface = start - depth * out
+    a, eps, hole = ring_shape
+    radius = a[0] * (hole + 1.0)  # the ring's outer half-width
+    center = surface + out * (radius * (2.0 / 3.0))
+    # body z of the ring = the tangent (its hole faces along the tangent); body x = out
+    tangent = np.cross([0.0, 0.0, 1.0], out)
+    rotation = np.column_stack([out, np.cross(tangent, out), tangent])
+    union = SuperquadricUnion((body, Supertoroid(a, eps, hole, rotation, center)))
+    return union.transformed(np.eye(3), -union.center)
 
 
 def random_composite(rng: np.random.Generator | int | None, parts: int | None = None) -> Any:
@@ -369,6 +409,8 @@ class ObjectSpec:
             shape = random_composite(rng)
         elif self.kind == "random_holed":
             shape = random_holed(rng)
+        elif self.kind == "random_handled":
+            shape = random_handled(rng)
         else:
             shape = random_superquadric(rng, tapered=self.kind == "random_tapered")
         if self.scale != 1.0:
@@ -491,6 +533,7 @@ __all__ = [
     "load_mesh",
     "random_composite",
     "random_holed",
+    "random_handled",
     "random_superquadric",
     "resolve_object",
     "stl_bytes",

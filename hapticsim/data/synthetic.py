@@ -181,6 +181,11 @@ def synthetic_dataset(
             "synthetic contacts are drawn on superquadrics and unions of them (the paper's "
             f"patterns), got {type(truth).__name__}: explore a mesh with the hand instead"
         )
+    if not all(isinstance(p, Superquadric) for p in truth.parts):
+        raise InvalidInputError(
+            "synthetic contacts are drawn on superquadrics (the paper's patterns): this union has "
+            "a ring part; explore it with the hand instead"
+        )
     sigma = finite_float(noise, "noise", low=0.0)
     n = positive_int(count, "count", minimum=MIN_COUNT, maximum=MAX_CONTACTS)
     gen = as_generator(rng)

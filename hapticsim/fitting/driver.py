@@ -311,7 +311,7 @@ def _fit_multi(
 
 
 def _with_ring(result: FitResult, pts: Array, nrm: Array, lam: float, start: float) -> FitResult:
-    """multi's union, or a supertoroid where it explains the contacts better
+    """multi's union, or a candidate with a ring where it explains the contacts better
     (:func:`~hapticsim.fitting.toroid.choose_holed`)."""
     from dataclasses import replace
 
@@ -323,12 +323,17 @@ def _with_ring(result: FitResult, pts: Array, nrm: Array, lam: float, start: flo
     if sigma_d is None or sigma_n is None:  # one part asked for: the criterion's floors
         sigma_d = DISTANCE_FLOOR * float(np.mean(sel.baseline.superquadric.a))
         sigma_n = NORMAL_FLOOR
-    ring, _, used = fit_supertoroid(pts, nrm, lam)
-    chosen, costs = choose_holed(result.solid, ring, pts, nrm, sigma_d, sigma_n)
-    record = {"costs": costs, "chosen": chosen.kind, "evaluations": used}
-    if chosen is ring:
-        eof = float(np.mean(toroid_residuals(ring, pts, nrm, lam) ** 2))
-        message = "a supertoroid, by the criterion against the union"
+    chosen, record = choose_holed(result.solid, pts, nrm, sigma_d, sigma_n, lam)
+    used = record["evaluations"]
+    if chosen is not result.solid:
+        rings = [p for p in chosen.components if p.kind == "supertoroid"]
+        vectors = [p.to_vector() for p in chosen.components if p.kind == "superquadric"]
+        terms = [toroid_residuals(p, pts, nrm, lam) ** 2 for p in rings]
+        if vectors:  # the superquadric parts' SPEC EOF terms
+            contacts = ContactSet.from_arrays(pts, nrm)
+            terms.extend(contacts.residuals(np.array(vectors), lam, tapered=False) ** 2)
+        eof = float(np.mean(np.min(np.stack(terms), axis=0)))  # each contact's nearest part
+        message = f"{record['chosen']}, by the criterion against the union"
     else:
         eof, message = result.eof, result.message
     return replace(result, solid=chosen, eof=eof, evaluations=result.evaluations + used,

@@ -17,12 +17,14 @@ axis, with the ring's radius and the tube's size from the contacts' spread about
 eps = (1, 1) or (0.5, 0.5): each start takes a few steps, the two best go on to convergence,
 and the better end by EOF is the fit.
 
-**Ring or union** (:func:`choose_holed`): both candidates are scored by multi's robust criterion
+**Rings in multi** (:func:`choose_holed`): multi's union, one ring on all contacts, the union
+with the part that explains its contacts worst replaced by a ring fitted to them, and the union
+with a ring added for the contacts it explains worst are scored by multi's robust criterion
 (:mod:`hapticsim.fitting.multi`: ``sum min(z^2, CAP^2) + P ln n``, z the contact's distance to
 the surface and its normal's chord over the noise levels of multi's record), with the distances
 and normals of each solid's own :meth:`~hapticsim.geometry.solid.Solid.contact_errors`; P is 12
-for the ring and 13 a part for the union. The smaller cost wins, and a ring must have at least
-:data:`MIN_INNER_SHARE` of the contacts on its inner wall, facing the axis (a hole nothing
+a ring and 13 a superquadric part. The smallest cost wins, and a candidate's ring must have at
+least :data:`MIN_INNER_SHARE` of its contacts on its inner wall, facing the axis (a hole nothing
 touched is not a hole).
 """
 
@@ -36,7 +38,7 @@ from numpy.typing import NDArray
 from hapticsim.constants import EPS_MAX, EPS_MIN
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
-from hapticsim.geometry.supertoroid import HOLE_MAX, HOLE_MIN, Supertoroid
+from hapticsim.geometry.supertoroid import HOLE_MAX, HOLE_MIN, Supertoroid, body_normals
 
 Array = NDArray[np.float64]
 
@@ -51,6 +53,8 @@ KEPT_STARTS: int = 2
 #: The share of contacts a ring needs on its inner wall to be chosen (:func:`inner_share`): a
 #: hole that nothing touched is not a hole.
 MIN_INNER_SHARE: float = 0.05
+#: The fewest contacts a ring is fitted to (a part of the union, or what it explains worst).
+MIN_RING_CONTACTS: int = 30
 
 
 def _unpack(x: Array) -> Supertoroid:
@@ -67,18 +71,24 @@ def _pack(t: Supertoroid) -> Array:
 
 def toroid_residuals(t: Supertoroid, points: Array, normals: Array, lam: float = 0.5) -> Array:
     """(n,) ``|D1| + lambda sigma D2`` of each contact (module docstring) [m]."""
-    b = t.to_body(points)
-    a1, a2, a3 = t.a
-    e1, e2 = t.eps
+    return _residuals(t.a, t.eps, t.hole, t.rotation, t.center, points, normals, lam)
+
+
+def _residuals(a: Array, eps: Array, hole: float, rotation: Array, center: Array, points: Array,
+               normals: Array, lam: float) -> Array:  # fmt: skip
+    """:func:`toroid_residuals` of raw parameters (the search's: no solid is made)."""
+    b = (points - center) @ rotation
+    a1, a2, a3 = a
+    e1, e2 = eps
     rho = np.hypot(b[:, 0], b[:, 1])
     r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
     scale = np.where(r > 1e-12, rho / np.maximum(r, 1e-12), 0.5 * (a1 + a2))  # m per unit of r
-    u, w = r - t.hole, b[:, 2] / a3
+    u, w = r - hole, b[:, 2] / a3
     tube = (np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)) ** (e1 / 2)
     offset = np.hypot(u * scale, w * a3)
     d1 = offset * np.abs(1.0 - 1.0 / np.maximum(tube, 1e-12))
-    d2 = np.sum((normals - t.normals(points)) ** 2, axis=1)
-    return np.abs(d1) + lam * float(np.mean(t.a)) * d2
+    d2 = np.sum((normals @ rotation - body_normals(b, a, eps, hole)) ** 2, axis=1)
+    return np.abs(d1) + lam * float(np.mean(a)) * d2
 
 
 def _starts(points: Array) -> list[Array]:
@@ -119,7 +129,9 @@ def fit_supertoroid(
     lo = np.array([-np.inf] * 3 + [EPS_MIN, EPS_MIN, np.log(HOLE_MIN - 1.0)] + [-np.inf] * 6)
     hi = np.array([np.inf] * 3 + [EPS_MAX, EPS_MAX, np.log(HOLE_MAX - 1.0)] + [np.inf] * 6)
     def residuals(x: Array) -> Array:
-        return toroid_residuals(_unpack(x), points, normals, lam)
+        hole = float(np.clip(1.0 + np.exp(x[5]), HOLE_MIN, HOLE_MAX))
+        return _residuals(np.exp(x[0:3]), np.clip(x[3:5], EPS_MIN, EPS_MAX), hole,
+                          rotvec_to_matrix(x[6:9]), x[9:12], points, normals, lam)  # fmt: skip
 
     def run(x0: Array, evaluations: int) -> Any:
         return least_squares(residuals, np.clip(x0, lo + 1e-9, hi - 1e-9), bounds=(lo, hi),
@@ -141,16 +153,25 @@ def fit_supertoroid(
     return best, best_eof, evaluations
 
 
+def _misfit(solid: Solid, points: Array, normals: Array, sigma_distance: float,
+            sigma_normal: float) -> Array:  # fmt: skip
+    """(n,) each contact's z^2 against a solid: distance and normal chord over their noise
+    levels (multi's criterion)."""
+    distance, angle = solid.contact_errors(points, normals)
+    chord = 2.0 * np.sin(np.radians(angle) / 2.0)
+    return (distance / sigma_distance) ** 2 + (chord / sigma_normal) ** 2
+
+
 def holed_cost(solid: Solid, points: Array, normals: Array, sigma_distance: float,
                sigma_normal: float) -> float:  # fmt: skip
-    """Multi's robust criterion of a candidate solid (module docstring)."""
+    """Multi's robust criterion of a candidate solid (module docstring): 13 parameters a
+    superquadric part, 12 a ring."""
     from hapticsim.fitting.multi import CAP
     from hapticsim.geometry.superquadric import N_PARAMS
 
-    distance, angle = solid.contact_errors(points, normals)
-    chord = 2.0 * np.sin(np.radians(angle) / 2.0)
-    z2 = (distance / sigma_distance) ** 2 + (chord / sigma_normal) ** 2
-    params = N_TOROID_PARAMS if solid.kind == "supertoroid" else N_PARAMS * len(solid.components)
+    z2 = _misfit(solid, points, normals, sigma_distance, sigma_normal)
+    params = sum(N_TOROID_PARAMS if p.kind == "supertoroid" else N_PARAMS
+                 for p in solid.components)  # fmt: skip
     return float(np.sum(np.minimum(z2, CAP**2)) + params * np.log(len(points)))
 
 
@@ -170,16 +191,62 @@ def inner_share(ring: Supertoroid, points: Array, normals: Array) -> float:
 
 
 def choose_holed(
-    union: Solid, ring: Supertoroid, points: Array, normals: Array, sigma_distance: float,
-    sigma_normal: float,
+    union: Any, points: Array, normals: Array, sigma_distance: float, sigma_normal: float,
+    lam: float = 0.5,
 ) -> tuple[Solid, dict[str, Any]]:  # fmt: skip
-    """The ring or the union, whichever costs less (module docstring); and the costs."""
-    costs = {"union": holed_cost(union, points, normals, sigma_distance, sigma_normal),
-             "supertoroid": holed_cost(ring, points, normals, sigma_distance, sigma_normal)}
-    inner = inner_share(ring, points, normals)
-    chosen = ring if costs["supertoroid"] < costs["union"] and inner >= MIN_INNER_SHARE else union
-    return chosen, {**costs, "inner_share": inner}
+    """The solid of least cost among multi's union and the candidates with a ring (module
+    docstring); and the record of every candidate's cost and inner share.
+
+    The candidates with a ring: one ring on all contacts; the union's part that explains its
+    contacts worst (the largest summed misfit, with at least :data:`MIN_RING_CONTACTS` contacts
+    nearest it) replaced by a ring fitted to those contacts; and the union with a ring added,
+    fitted to the contacts it explains worst (their z^2 above ``(CAP / 2)^2``), where there are
+    that many. A ring must have :data:`MIN_INNER_SHARE` of its
+    own contacts on its inner wall.
+
+    Returns:
+        the chosen solid, and ``{"costs": {name: cost}, "inner_share": {name: share},
+        "chosen": name, "evaluations": the rings' residual evaluations}``.
+    """
+    from hapticsim.fitting.multi import CAP
+    from hapticsim.geometry.union import SuperquadricUnion
+
+    parts = tuple(union.components)
+    rings: dict[str, tuple[Solid, Supertoroid, Array]] = {}
+    used = 0
+
+    def ring_on(mask: Array) -> Supertoroid:
+        nonlocal used
+        ring, _, evaluations = fit_supertoroid(points[mask], normals[mask], lam)
+        used += evaluations
+        return ring
+
+    every = np.ones(len(points), dtype=bool)
+    ring = ring_on(every)
+    rings["supertoroid"] = (ring, ring, every)
+    z2 = np.minimum(_misfit(union, points, normals, sigma_distance, sigma_normal), CAP**2)
+    if len(parts) > 1:  # the part that explains its contacts worst (by their summed misfit)
+        owner = union.part_of(points)
+        k = int(np.argmax(np.bincount(owner, weights=z2, minlength=len(parts))))
+        mine = owner == k
+        if np.count_nonzero(mine) >= MIN_RING_CONTACTS:
+            ring = ring_on(mine)
+            others = parts[:k] + (ring,) + parts[k + 1:]
+            rings[f"part {k} a ring"] = (SuperquadricUnion(others), ring, mine)
+    worst = z2 > (CAP / 2) ** 2
+    if np.count_nonzero(worst) >= MIN_RING_CONTACTS:
+        ring = ring_on(worst)
+        rings["a ring added"] = (SuperquadricUnion((*parts, ring)), ring, worst)
+    costs = {"union": holed_cost(union, points, normals, sigma_distance, sigma_normal)}
+    inner: dict[str, float] = {}
+    for name, (solid, ring, mine) in rings.items():
+        costs[name] = holed_cost(solid, points, normals, sigma_distance, sigma_normal)
+        inner[name] = inner_share(ring, points[mine], normals[mine])
+    eligible = ["union", *(n for n in rings if inner[n] >= MIN_INNER_SHARE)]
+    name = min(eligible, key=lambda n: costs[n])
+    chosen = union if name == "union" else rings[name][0]
+    return chosen, {"costs": costs, "inner_share": inner, "chosen": name, "evaluations": used}
 
 
-__all__ = ["MIN_INNER_SHARE", "N_TOROID_PARAMS", "choose_holed", "fit_supertoroid",
-           "holed_cost", "inner_share", "toroid_residuals"]  # fmt: skip
+__all__ = ["MIN_INNER_SHARE", "MIN_RING_CONTACTS", "N_TOROID_PARAMS", "choose_holed",
+           "fit_supertoroid", "holed_cost", "inner_share", "toroid_residuals"]  # fmt: skip

@@ -328,30 +328,6 @@ class MeshSolid(Solid):
         pts, face = sample_triangles(self.triangles, self.face_areas, n, as_generator(rng))
         return pts, self.face_normals[face].copy()
 
-    def sample_interior(self, count: int, rng: np.random.Generator | int | None = None) -> Array:
-        """Points uniform inside the solid: rejection from the bounding box by :meth:`contains`.
-
-        Args:
-            count: number of points, >= 1.
-            rng: seed or generator.
-
-        Returns:
-            (count, 3) float [m, world].
-        """
-        n = positive_int(count, "count")
-        gen = as_generator(rng)
-        lo, hi = self.bounds
-        fill = self.volume / float(np.prod(hi - lo))
-        chunks: list[Array] = []
-        have = 0
-        while have < n:
-            k = min(int((n - have) / fill * 1.05) + 64, 1_000_000)
-            cand = gen.uniform(lo, hi, size=(k, 3))
-            keep = cand[self.contains(cand)]
-            chunks.append(keep)
-            have += len(keep)
-        return np.concatenate(chunks)[:n]
-
     # ----------------------------------------------------------------- Solid: pieces, pose
     def surface_mesh(self, resolution: int = 40) -> tuple[Array, NDArray[np.int64]]:
         """Its own vertices and faces (`resolution` is for solids meshed from parameters)."""

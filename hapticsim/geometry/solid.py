@@ -14,7 +14,8 @@ What a solid answers (points and normals are (n, 3) float [m, world]):
 - **surface**: :meth:`normals` (outward unit normals at or near the surface),
   :meth:`surface_distance` (distance to the surface, as the Chamfer distance measures it) and
   :meth:`contact_errors` (distance and normal angle of measured contacts, SPEC §7);
-- **sampling**: :meth:`sample_interior` (uniform inside), :meth:`sample_surface` (uniform by area,
+- **sampling**: :meth:`sample_interior` (uniform inside; by default rejection from the bounds),
+  :meth:`sample_surface` (uniform by area,
   with normals);
 - **ray casting**: :meth:`first_hits` (distance to where each ray first enters);
 - **measures**: :attr:`volume` (exact for every kind), :attr:`center`, :attr:`bounding_radius`,
@@ -79,11 +80,31 @@ class Solid(ABC):
         surface's there, each (n,) (SPEC §7's contact accuracy)."""
 
     # ----------------------------------------------------------------- sampling
-    @abstractmethod
     def sample_interior(
         self, count: int, rng: np.random.Generator | int | None = None
     ) -> Array:
-        """(count, 3) float, points uniform inside the solid [m, world]."""
+        """(count, 3) float, points uniform inside the solid [m, world]. Default: rejection from
+        :attr:`bounds` by :meth:`contains` (a kind with a sampler of its own overrides it).
+
+        Args:
+            count: number of points, >= 1.
+            rng: seed or generator.
+        """
+        from hapticsim._validate import as_generator, positive_int
+
+        n = positive_int(count, "count")
+        gen = as_generator(rng)
+        lo, hi = self.bounds
+        fill = self.volume / float(np.prod(hi - lo))
+        chunks: list[Array] = []
+        have = 0
+        while have < n:
+            k = min(int((n - have) / fill * 1.05) + 64, 1_000_000)
+            cand = gen.uniform(lo, hi, size=(k, 3))
+            keep = cand[self.contains(cand)]
+            chunks.append(keep)
+            have += len(keep)
+        return np.concatenate(chunks)[:n]
 
     @abstractmethod
     def sample_surface(

@@ -18,8 +18,9 @@ centre line at ``hole`` times (a1, a2); the hole's half-width is ``(hole - 1) a1
 exact: ``V = 2 a1 a2 a3 hole A(eps1) A(eps2)``, A(e) the area of the unit superellipse of
 exponent e (the tube's cross-section swept round the axis; Pappus's theorem for superellipses).
 
-Distances to the surface, surface samples and contact errors come from a fine mesh of the
-parametrisation (its vertices on the surface), normals and membership from F.
+Distances to the surface and surface samples come from a fine mesh of the parametrisation (its
+vertices on the surface); normals, membership and contact errors (a radial projection in the
+tube's cross-section, first order as a superquadric's) from F.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim._validate import as_generator, finite_array, finite_float, positive_int
+from hapticsim._validate import finite_array, finite_float, positive_int
 from hapticsim.constants import EPS_MAX, EPS_MIN, ROTATION_TOL
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.functions import signed_power, unit_superellipse_area
@@ -56,6 +57,31 @@ def _frozen(arr: Array) -> Array:
     return arr
 
 
+def body_normals(b: Array, a: Array, eps: Array, hole: float) -> Array:
+    """(n, 3) outward unit normals at body-frame points `b` (n, 3): F's gradient (module
+    docstring), finite off the axis; a point on the tube's centre line gets the radial
+    direction. (The fit calls it on raw parameters, without making a solid.)"""
+    a1, a2, a3 = a
+    e1, e2 = eps
+    ux, uy = np.abs(b[:, 0] / a1), np.abs(b[:, 1] / a2)
+    s = ux ** (2 / e2) + uy ** (2 / e2)
+    r = s ** (e2 / 2)
+    d = r - hole
+    # dF/dr and dF/dz, then dr/dx, dr/dy (chain rule through the xy superellipse)
+    df_dr = (2 / e1) * np.sign(d) * np.abs(d) ** (2 / e1 - 1)
+    df_dz = (2 / e1) * np.sign(b[:, 2]) * np.abs(b[:, 2] / a3) ** (2 / e1 - 1) / a3
+    with np.errstate(divide="ignore", invalid="ignore"):
+        common = np.where(s > 0, s ** (e2 / 2 - 1), 0.0)
+        dr_dx = common * np.sign(b[:, 0]) * ux ** (2 / e2 - 1) / a1
+        dr_dy = common * np.sign(b[:, 1]) * uy ** (2 / e2 - 1) / a2
+    grad = np.stack([df_dr * dr_dx, df_dr * dr_dy, df_dz], axis=1)
+    grad = np.nan_to_num(grad, nan=0.0, posinf=0.0, neginf=0.0)
+    norm = np.linalg.norm(grad, axis=1)
+    radial = np.stack([b[:, 0], b[:, 1], np.zeros(len(b))], axis=1)
+    radial /= np.maximum(np.linalg.norm(radial, axis=1, keepdims=True), 1e-300)
+    return np.where(norm[:, None] > 0, grad / np.maximum(norm, 1e-300)[:, None], radial)
+
+
 @dataclass(frozen=True, eq=False)
 class Supertoroid(Solid):
     """A supertoroid in the world (module docstring).
@@ -71,9 +97,7 @@ class Supertoroid(Solid):
     """
 
     kind = "supertoroid"
-    contact_reference = (
-        "supertoroid surface (closest point of a fine mesh of it); analytic normal there"
-    )
+    contact_reference = "analytic supertoroid surface (radial projection) and normal"
 
     a: Array
     eps: Array
@@ -127,6 +151,24 @@ class Supertoroid(Solid):
         r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
         return np.abs(r - self.hole) ** (2 / e1) + np.abs(b[:, 2] / a3) ** (2 / e1)
 
+    def log_inside_outside(self, points_world: Array) -> Array:
+        """(n,) float, log F (< 0 inside): the union's measure of which part is nearest."""
+        with np.errstate(divide="ignore"):
+            return np.log(np.maximum(self.inside_outside(points_world), 1e-300))
+
+    def interior_from_unit(self, u: Array) -> Array:
+        """The points of candidates `u` (k, >= 3) in [0, 1) that lie inside, the first three
+        coordinates spread over its bounding box (a union's overlap count), (j, 3) [m, world]."""
+        lo, hi = self.bounds
+        pts = lo + np.asarray(u, dtype=np.float64)[:, :3] * (hi - lo)
+        return pts[self.contains(pts)]
+
+    @property
+    def surface_area(self) -> float:
+        """Surface area [m^2] of its fine mesh (vertices on the surface: a little less than the
+        exact area)."""
+        return float(self._fine().area)
+
     def surface_points(self, eta: Array, omega: Array) -> Array:
         """(n, 3) surface points [m, world] at the angles (module docstring's parametrisation)."""
         e1, e2 = self.eps
@@ -148,29 +190,10 @@ class Supertoroid(Solid):
 
     # ----------------------------------------------------------------- surface
     def normals(self, points_world: Array) -> Array:
-        """(n, 3) outward unit normals: F's gradient at the points (finite at the axis-free
-        tube; a point on the tube's centre line gets the radial direction)."""
-        b = self.to_body(points_world)
-        a1, a2, a3 = self.a
-        e1, e2 = self.eps
-        ux, uy = np.abs(b[:, 0] / a1), np.abs(b[:, 1] / a2)
-        s = ux ** (2 / e2) + uy ** (2 / e2)
-        r = s ** (e2 / 2)
-        d = r - self.hole
-        # dF/dr and dF/dz, then dr/dx, dr/dy (chain rule through the xy superellipse)
-        df_dr = (2 / e1) * np.sign(d) * np.abs(d) ** (2 / e1 - 1)
-        df_dz = (2 / e1) * np.sign(b[:, 2]) * np.abs(b[:, 2] / a3) ** (2 / e1 - 1) / a3
-        with np.errstate(divide="ignore", invalid="ignore"):
-            common = np.where(s > 0, s ** (e2 / 2 - 1), 0.0)
-            dr_dx = common * np.sign(b[:, 0]) * ux ** (2 / e2 - 1) / a1
-            dr_dy = common * np.sign(b[:, 1]) * uy ** (2 / e2 - 1) / a2
-        grad = np.stack([df_dr * dr_dx, df_dr * dr_dy, df_dz], axis=1)
-        grad = np.nan_to_num(grad, nan=0.0, posinf=0.0, neginf=0.0)
-        norm = np.linalg.norm(grad, axis=1)
-        radial = np.stack([b[:, 0], b[:, 1], np.zeros(len(b))], axis=1)
-        radial /= np.maximum(np.linalg.norm(radial, axis=1, keepdims=True), 1e-300)
-        unit = np.where(norm[:, None] > 0, grad / np.maximum(norm, 1e-300)[:, None], radial)
-        return unit @ self.rotation.T
+        """(n, 3) outward unit normals: F's gradient at the points (:func:`body_normals`)."""
+        return body_normals(self.to_body(points_world), self.a, self.eps, self.hole) @ (
+            self.rotation.T
+        )
 
     def _fine(self) -> Any:
         """The fine mesh (a :class:`~hapticsim.geometry.mesh_solid.MeshSolid`), kept with it."""
@@ -186,17 +209,34 @@ class Supertoroid(Solid):
         """(n,) distances [m] to its fine mesh (vertices on the surface)."""
         return self._fine().surface_distance(points_world)
 
+    def project(self, points_world: Array) -> Array:
+        """(n, 3) the radial projections of points onto the surface [m, world]: along the line
+        from the tube's centre line in the point's cross-section (the superquadric's radial
+        projection, with the tube in its place)."""
+        b = self.to_body(points_world)
+        a1, a2, a3 = self.a
+        e1, e2 = self.eps
+        r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+        u, w = r - self.hole, b[:, 2] / a3
+        t = np.maximum((np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)) ** (e1 / 2), 1e-12)
+        r_q = self.hole + u / t
+        scale = np.where(r > 1e-12, r_q / np.maximum(r, 1e-12), 1.0)
+        q = np.stack([b[:, 0] * scale, b[:, 1] * scale, a3 * w / t], axis=1)
+        return q @ self.rotation.T + self.center
+
     def contact_errors(self, points_world: Array, normals_world: Array) -> tuple[Array, Array]:
-        """Distance [m] of contacts to the surface (its fine mesh) and angle [deg] of their
-        normals against the analytic normal at the closest point."""
+        """Distance [m] of contacts to the surface, ``|(p - q) . n(q)|`` with q the radial
+        projection (:meth:`project`; the Euclidean distance to first order, as a
+        superquadric's), and the angle [deg] of their normals against the normal at q."""
         from hapticsim._validate import normals_array, points_array
 
         p = points_array(points_world, "points_world", min_count=1)
         unit = normals_array(normals_world, len(p), "normals_world")
-        closest, _ = self._fine().nearest(p)  # exact, through the mesh's piece search
-        true = self.normals(closest)
-        cos = np.clip(np.einsum("ij,ij->i", unit, true), -1.0, 1.0)
-        return np.linalg.norm(closest - p, axis=1), np.degrees(np.arccos(cos))
+        q = self.project(p)
+        nq = self.normals(q)
+        distance = np.abs(np.einsum("ij,ij->i", p - q, nq))
+        angle = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", unit, nq), -1.0, 1.0)))
+        return distance, angle
 
     def first_hits(
         self, origins: Array, directions: Array, length: float, grids: tuple[int, ...]
@@ -207,26 +247,13 @@ class Supertoroid(Solid):
         return super().first_hits(origins, directions, length, (max(grids[0], need), *grids[1:]))
 
     # ----------------------------------------------------------------- sampling
-    def sample_interior(self, count: int, rng: np.random.Generator | int | None = None) -> Array:
-        """(count, 3) points uniform inside: rejection from the bounding box by F."""
-        n = positive_int(count, "count")
-        gen = as_generator(rng)
-        lo, hi = self.bounds
-        fill = self.volume / float(np.prod(hi - lo))
-        out: list[Array] = []
-        have = 0
-        while have < n:
-            pts = gen.uniform(lo, hi, (int(1.3 * (n - have) / fill) + 16, 3))
-            pts = pts[self.contains(pts)]
-            out.append(pts)
-            have += len(pts)
-        return np.concatenate(out)[:n]
-
     def sample_surface(
         self, count: int, rng: np.random.Generator | int | None = None
     ) -> tuple[Array, Array]:
-        """`count` points uniform by area on its fine mesh and the analytic normals there."""
+        """`count` points uniform by area on its fine mesh, moved onto the exact surface by
+        :meth:`project` (as a superquadric's), and the analytic normals there."""
         pts, _ = self._fine().sample_surface(positive_int(count, "count"), rng)
+        pts = self.project(pts)
         return pts, self.normals(pts)
 
     # ----------------------------------------------------------------- measures
@@ -374,4 +401,4 @@ class Supertoroid(Solid):
                 f"hole={self.hole:.3f}, center={f(self.center, precision=4)})")  # fmt: skip
 
 
-__all__ = ["HOLE_MAX", "HOLE_MIN", "SECTORS", "Supertoroid"]
+__all__ = ["HOLE_MAX", "HOLE_MIN", "SECTORS", "Supertoroid", "body_normals"]

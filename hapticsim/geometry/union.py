@@ -1,4 +1,5 @@
-"""The :class:`SuperquadricUnion`: a solid made of several superquadrics (SPEC §10).
+"""The :class:`SuperquadricUnion`: a solid made of several superquadrics, and rings
+(:class:`~hapticsim.geometry.supertoroid.Supertoroid` parts: a body with a handle), SPEC §10.
 
 Inside any part is inside the union. Its surface is the parts' surfaces outside every other
 part; its volume is computed exactly up to the parts' overlaps, which are measured by a fixed,
@@ -13,7 +14,8 @@ error below 0.1 % of a part's volume; exact without overlaps).
   point is deepest in or closest to outside);
 - the union of one part is that superquadric's solid.
 
-JSON (SPEC §10): ``{"parts": [SUPERQUADRIC, ...]}``, at least one part.
+JSON (SPEC §10): ``{"parts": [PART, ...]}``, at least one part, each a superquadric JSON or,
+with ``"kind": "supertoroid"``, a ring's.
 """
 
 from __future__ import annotations
@@ -30,7 +32,11 @@ from hapticsim._validate import as_generator, points_array, positive_int
 from hapticsim.errors import InvalidInputError
 from hapticsim.geometry.solid import Solid
 from hapticsim.geometry.superquadric import Superquadric
+from hapticsim.geometry.supertoroid import Supertoroid
 from hapticsim.geometry.triangles import TriangleSearch
+
+#: The kinds of part a union takes, by their JSON ``"kind"``.
+PART_TYPES: dict[str, type] = {"superquadric": Superquadric, "supertoroid": Supertoroid}
 
 Array = NDArray[np.float64]
 
@@ -45,13 +51,14 @@ class SuperquadricUnion(Solid):
     """The union of superquadrics (module docstring).
 
     Attributes:
-        parts: the superquadrics, at least one (:data:`MAX_PARTS` at most).
+        parts: the superquadrics (and rings), at least one (:data:`MAX_PARTS` at most).
 
     Raises:
-        InvalidInputError: no part, too many, or a part that is not a superquadric.
+        InvalidInputError: no part, too many, or a part that is neither a superquadric nor a
+            supertoroid.
     """
 
-    parts: tuple[Superquadric, ...]
+    parts: tuple[Superquadric | Supertoroid, ...]
 
     kind = "union"
     contact_reference = "the nearest part's analytic superquadric surface and normal"
@@ -67,15 +74,16 @@ class SuperquadricUnion(Solid):
         if len(parts) > MAX_PARTS:
             raise InvalidInputError(f"a union has at most {MAX_PARTS} parts, got {len(parts)}")
         for k, p in enumerate(parts):
-            if not isinstance(p, Superquadric):
+            if not isinstance(p, (Superquadric, Supertoroid)):
                 raise InvalidInputError(
-                    f"part {k} of a union must be a Superquadric, got {type(p).__name__}"
+                    f"part {k} of a union must be a Superquadric or a Supertoroid, got "
+                    f"{type(p).__name__}"
                 )
         object.__setattr__(self, "parts", parts)
 
     # ----------------------------------------------------------------- files
     def to_dict(self) -> dict[str, Any]:
-        """``{"parts": [superquadric JSON, ...]}`` (SPEC §10)."""
+        """``{"parts": [part JSON, ...]}`` (SPEC §10)."""
         return {"parts": [p.to_dict() for p in self.parts]}
 
     @classmethod
@@ -100,20 +108,15 @@ class SuperquadricUnion(Solid):
             raise InvalidInputError("a union needs at least one part, got an empty `parts`")
         out = []
         for k, part in enumerate(parts):
-            kind = part.get("kind", "superquadric") if isinstance(part, dict) else None
+            kind = part.get("kind", "superquadric") if isinstance(part, dict) else "superquadric"
             try:
-                if kind not in (None, "superquadric"):
-                    if kind == "supertoroid":
-                        raise InvalidInputError(
-                            "the parts of a union are superquadrics in this version; a "
-                            "supertoroid is a solid of its own"
-                        )
+                if kind not in PART_TYPES:
                     raise InvalidInputError(
-                        f"`kind` must be one of superquadric, supertoroid, got {kind!r}"
+                        f"`kind` must be one of {', '.join(PART_TYPES)}, got {kind!r}"
                     )
-                if isinstance(part, dict) and "kind" in part:
+                if kind == "superquadric" and isinstance(part, dict) and "kind" in part:
                     part = {key: v for key, v in part.items() if key != "kind"}
-                out.append(Superquadric.from_dict(part))
+                out.append(PART_TYPES[kind].from_dict(part))
             except InvalidInputError as exc:
                 raise InvalidInputError(f"part {k} of the union: {exc}") from exc
         return cls(tuple(out))
@@ -332,15 +335,18 @@ class SuperquadricUnion(Solid):
             return np.concatenate([v for v, _ in meshes]), np.concatenate(faces)
 
     def convex_pieces(self, resolution: int) -> tuple[tuple[Array, ...], Array, Array, str]:
-        """One convex piece per part (each part's collision vertices), in the world frame's
-        axes about the union's centre."""
+        """The parts' convex pieces (a superquadric's one hull, a ring's sectors), in the world
+        frame's axes about the union's centre."""
         c = self.center
         pieces = []
         for p in self.parts:
             v, pos, rot, _ = p.convex_pieces(resolution)
-            pieces.append(v[0] @ rot.T + pos - c)
-        return (tuple(pieces), c, np.eye(3),
-                f"union of {len(self.parts)} superquadrics: one hull per part")  # fmt: skip
+            pieces.extend(piece @ rot.T + pos - c for piece in v)
+        if all(p.kind == "superquadric" for p in self.parts):
+            how = f"union of {len(self.parts)} superquadrics: one hull per part"
+        else:
+            how = f"union of {len(self.parts)} parts: one hull per superquadric, a ring's sectors"
+        return tuple(pieces), c, np.eye(3), how
 
     # ----------------------------------------------------------------- placement
     def transformed(self, rotation: Array, translation: Array) -> SuperquadricUnion:
@@ -360,8 +366,9 @@ class SuperquadricUnion(Solid):
     def shape_key(self) -> bytes:
         digest = hashlib.sha1()
         for p in self.parts:
-            digest.update(p.to_vector().tobytes())
+            digest.update(p.to_vector().tobytes() if isinstance(p, Superquadric) else
+                          p.shape_key() + p.rotation.tobytes() + p.center.tobytes())  # fmt: skip
         return b"union:" + digest.digest()
 
 
-__all__ = ["MAX_PARTS", "SuperquadricUnion"]
+__all__ = ["MAX_PARTS", "PART_TYPES", "SuperquadricUnion"]

@@ -108,11 +108,12 @@ def _object(value: Any, name: str) -> str:
         except InvalidInputError:
             spec = None
         if spec is not None and spec.kind in ("body", "random", "random_tapered",
-                                              "random_composite", "random_holed"):  # fmt: skip
+                                              "random_composite", "random_holed",
+                                              "random_handled"):  # fmt: skip
             return value
     raise InvalidInputError(
         f"`{name}` must be a paper body, random, random_tapered, random_composite, "
-        f"random_holed, an example "
+        f"random_holed, random_handled, an example "
         f"mesh ({', '.join(EXAMPLE_MESHES)}) or pybullet:NAME, got {value!r}"
     )
 

@@ -32,7 +32,7 @@ def test_kinds_are_recognised(tmp_path: Path) -> None:
         "cube": "body", "random": "random", "random_tapered": "random_tapered",
         str(tmp_path / "cube.json"): "superquadric", str(tmp_path / "part.stl"): "mesh",
         "random_composite": "random_composite", "pybullet:duck": "pybullet",
-        "random_holed": "random_holed",
+        "random_holed": "random_holed", "random_handled": "random_handled",
     }  # fmt: skip
     for source, kind in kinds.items():
         assert ObjectSpec(source).kind == kind

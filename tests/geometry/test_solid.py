@@ -36,7 +36,14 @@ RING = Supertoroid(
     a=(0.01, 0.014, 0.012), eps=(0.5, 1.2), hole=2.4,
     rotation=random_rotation(np.random.default_rng(8)), center=(0.0, 0.01, -0.01),
 )  # fmt: skip
-SOLIDS = {"superquadric": TAPERED, "union": UNION, "mesh": l_block(), "supertoroid": RING}
+#: a cup with a ring handle: a union with a part that has a hole
+HANDLED = SuperquadricUnion((
+    Superquadric(a=(0.03, 0.03, 0.04), eps=(0.2, 1.0)),
+    Supertoroid(a=(0.006, 0.006, 0.008), eps=(1.0, 1.0), hole=2.6,
+                rotation=((1, 0, 0), (0, 0, -1), (0, 1, 0)), center=(0.035, 0.0, 0.0)),
+))  # fmt: skip
+SOLIDS = {"superquadric": TAPERED, "union": UNION, "mesh": l_block(), "supertoroid": RING,
+          "handled": HANDLED}  # fmt: skip
 
 
 @pytest.fixture(params=list(SOLIDS), ids=list(SOLIDS))
