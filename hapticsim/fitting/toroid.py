@@ -103,7 +103,8 @@ def _starts(points: Array) -> list[Array]:
         height = centered @ z
         radial = np.linalg.norm(centered - height[:, None] * z, axis=1)
         ring = float(np.median(radial))
-        tube = max(0.5 * (np.percentile(radial, 95) - np.percentile(radial, 5)) / 2, 0.1 * ring)
+        # the tube's half-width: a quarter of the contacts' radial spread about the axis
+        tube = max(0.25 * (np.percentile(radial, 95) - np.percentile(radial, 5)), 0.1 * ring)
         half = max(float(np.percentile(np.abs(height), 95)), 0.1 * ring)
         hole = float(np.clip(ring / max(tube, 1e-6), 1.3, HOLE_MAX / 2))
         for eps in START_EPS:
@@ -128,6 +129,7 @@ def fit_supertoroid(
 
     lo = np.array([-np.inf] * 3 + [EPS_MIN, EPS_MIN, np.log(HOLE_MIN - 1.0)] + [-np.inf] * 6)
     hi = np.array([np.inf] * 3 + [EPS_MAX, EPS_MAX, np.log(HOLE_MAX - 1.0)] + [np.inf] * 6)
+
     def residuals(x: Array) -> Array:
         hole = float(np.clip(1.0 + np.exp(x[5]), HOLE_MIN, HOLE_MAX))
         return _residuals(np.exp(x[0:3]), np.clip(x[3:5], EPS_MIN, EPS_MAX), hole,

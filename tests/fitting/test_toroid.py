@@ -68,3 +68,21 @@ def test_the_commands_and_bad_input(tmp_path, capsys) -> None:  # noqa: ANN001
         fit(points, normals, method="nH", holes=True)
     with pytest.raises(InvalidInputError, match="needs `normals`"):
         fit(points, method="supertoroid")
+
+
+@pytest.mark.parametrize("seed", [0, 2])
+def test_a_handle_becomes_a_ring_part(seed: int) -> None:
+    # bodies with a ring handle (300 surface contacts): measured IoU 0.966 / 0.964 with the
+    # ring part, multi's blobs 0.903 / 0.859; what is asserted is the kind of answer and that
+    # it is no worse than multi's
+    from hapticsim.data.objects import random_handled
+
+    truth = random_handled(seed)
+    points, normals = _contacts(truth, seed)
+    holed = fit(points, normals, method="multi", holes=True, rng=seed)
+    plain = fit(points, normals, method="multi", rng=seed)
+    assert holed.solid.kind == "union"
+    assert [p.kind for p in holed.solid.components].count("supertoroid") == 1
+    assert holed.selection.holes["chosen"].endswith("a ring")
+    iou = score(holed.solid, truth, rng=0, volume_samples=50_000).iou
+    assert iou > 0.93 and iou >= score(plain.solid, truth, rng=0, volume_samples=50_000).iou
