@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from hapticsim._validate import finite_float, normals_array, points_array
 from hapticsim.constants import DEFAULT_LAMBDA
 from hapticsim.geometry import Superquadric
@@ -43,15 +45,24 @@ def theta(
     pts = points_array(points, "points", min_count=1)
     nrm = None if normals is None else normals_array(normals, len(pts))
     weight = finite_float(lam, "lam", low=0.0)
-    return theta_checked(estimate, truth, pts, nrm, weight)
+    return _theta(estimate, truth, pts, nrm, weight)
 
 
 def theta_checked(
     estimate: Superquadric, truth: Superquadric, points: Any, normals: Any | None, lam: float
 ) -> float:
-    """:func:`theta` of arguments checked already (two superquadrics, (n, 3) points, unit
+    """:func:`theta` of arguments checked already (two superquadrics, (n, 3) points, non-zero
     normals or None, lam >= 0): for a caller that validated its inputs once at its own entry
-    (:func:`hapticsim.exploration.run_trial`)."""
+    (:func:`hapticsim.exploration.run_trial`). The normals are normalised here as
+    :func:`theta` normalises them (the same arithmetic, so the same digits)."""
+    if normals is not None:
+        normals = normals / np.linalg.norm(normals, axis=1)[:, None]
+    return _theta(estimate, truth, points, normals, lam)
+
+
+def _theta(
+    estimate: Superquadric, truth: Superquadric, points: Any, normals: Any | None, lam: float
+) -> float:
     return _eof(estimate, points, normals, lam) / (_eof(truth, points, normals, lam) + 1.0)
 
 
