@@ -3,6 +3,7 @@ and multi's choice between a union and a ring (``multi`` with ``holes=True``), o
 contacts: the table of docs/objects.md ("Objects with holes").
 
     python scripts/holed_table.py --out docs/objects/holed/holed_table.json   # ~8 min, 2 cores
+    python scripts/holed_table.py --sensing vision --out docs/objects/holed/vision/holed_table.json
 
 Families (none of their objects was seen while the supertoroid fit and the rings-in-multi rule
 were written; those were tried on area-uniform samples of other random rings, bodies with
@@ -15,9 +16,10 @@ handles (seeds 0-5), the paper's bodies and random composites):
 - ``composites``: random composites (object seeds 200-207; no hole either).
 
 Every exploration: the built-in hand (MuJoCo), the uncertainty policy, 300 contacts (scored on
-the first 150 and on all 300), exact sensing, no sensor noise; the fits take the fit seed of
-``hapticsim explore``. Prints JSON (every run, and per family and count the means and the
-share of rings chosen); with ``--markdown`` also the table on stderr.
+the first 150 and on all 300), exact sensing (or, with ``--sensing vision``, the contacts
+estimated from taxel pads with the ``vision`` skin), no sensor noise added; the fits take the
+fit seed of ``hapticsim explore``. Prints JSON (every run, and per family and count the means
+and the share of rings chosen); with ``--markdown`` also the table on stderr.
 """
 
 from __future__ import annotations
@@ -59,19 +61,21 @@ def _truth(family: str, index: int) -> Any:
     return body.transformed(random_rotation(np.random.default_rng(2000 + index)), np.zeros(3))
 
 
-def _task(task: tuple[str, int]) -> list[dict[str, Any]]:
+def _task(task: tuple[str, int, str]) -> list[dict[str, Any]]:
     """One exploration and every estimator's fit at each count (a failed one: a row saying so)."""
     from hapticsim.errors import HapticsimError
     from hapticsim.exploration import explorer_for
     from hapticsim.fitting import fit
     from hapticsim.metrics import score, surface_score
+    from hapticsim.sim.scene import SceneConfig
 
-    family, index = task
+    family, index, sensing = task
+    scene = SceneConfig() if sensing == "exact" else SceneConfig(sensing="tactile", skin=sensing)
     truth = _truth(family, index)
     sim_rng = np.random.default_rng(np.random.SeedSequence(index).spawn(3)[0])
     fit_seed = int(np.random.SeedSequence(index).spawn(3)[2].generate_state(1)[0])
     try:
-        run = explorer_for("uncertainty").explore(truth, max(COUNTS), sim_rng, None)
+        run = explorer_for("uncertainty").explore(truth, max(COUNTS), sim_rng, scene)
     except HapticsimError as exc:
         print(f"{family:10s} {index:4d}: FAILED {exc}", file=sys.stderr, flush=True)
         return [{"family": family, "object": index, "error": str(exc)}]
@@ -147,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", default=None, help="also write the JSON here (with a manifest "
                         "beside it)")  # fmt: skip
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--sensing", choices=("exact", "vision", "capacitive"), default="exact",
+                        help="exact contacts, or estimated from taxel pads with this skin")
     parser.add_argument("--markdown", action="store_true", help="print the table on stderr")
     args = parser.parse_args(argv)
     from hapticsim.suites.provenance import manifest
@@ -158,12 +164,14 @@ def main(argv: list[str] | None = None) -> int:
     tasks = ([("holed", s) for s in HOLED_SEEDS] + [("handled", s) for s in HANDLED_SEEDS]
              + [("bodies", k) for k in range(8)]
              + [("composites", s) for s in COMPOSITE_SEEDS])  # fmt: skip
+    tasks = [(family, index, args.sensing) for family, index in tasks]
     print(f"holed table: {len(tasks)} explorations on {args.workers} workers", file=sys.stderr)
     with Pool(args.workers) as pool:
         rows = [r for chunk in pool.imap(_task, tasks) for r in chunk]
     summary = _summary(rows)
     result = {
         "command": " ".join(command),
+        "sensing": args.sensing,
         "load_average_1min": {"start": load, "end": os.getloadavg()[0]},
         "seconds": time.perf_counter() - start,
         "summary": summary,
