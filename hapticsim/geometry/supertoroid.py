@@ -242,7 +242,8 @@ class Supertoroid(Solid):
         self, origins: Array, directions: Array, length: float, grids: tuple[int, ...]
     ) -> Array:
         """As :meth:`Solid.first_hits`, with a first grid fine enough (steps of at most half
-        the tube's smallest half-width) that no ray through the tube passes between samples."""
+        the tube's smallest half-width) that a ray through the tube's thick part is not missed
+        between samples (a ray grazing its edge can still be)."""
         need = int(np.ceil(float(length) / (0.5 * float(np.min(self.a))))) + 1
         return super().first_hits(origins, directions, length, (max(grids[0], need), *grids[1:]))
 
