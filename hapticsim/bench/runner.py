@@ -192,7 +192,7 @@ def run_episode(job: EpisodeTask) -> dict[str, Any]:
                 row["fit_wall_s"] = time.perf_counter() - start
                 row["fit_cpu_s"] = time.process_time() - cpu
             else:
-                row |= dict.fromkeys(METRICS[:-2])  # not scored at this touch
+                row |= dict.fromkeys(_NO_FIT)  # the quality measures: not scored here
                 row["contacts"] = int(info["n_contacts"])
                 touches.append(row)
                 continue

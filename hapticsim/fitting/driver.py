@@ -128,8 +128,8 @@ def fit(
         uncertainty: also compute the Laplace approximation of the estimate's uncertainty
             (:mod:`hapticsim.fitting.uncertainty`, outside the fit's ``seconds``); not for multi,
             gpis and supertoroid.
-        holes: multi only: also fit a supertoroid and keep it where it explains the contacts
-            better than the union by multi's criterion
+        holes: multi only: also weigh candidates with a ring (a supertoroid alone, or as a
+            part of the union) and keep the one multi's criterion prefers
             (:func:`~hapticsim.fitting.toroid.choose_holed`; the costs in the selection record).
 
     Returns:

@@ -30,8 +30,8 @@ class PartSelection:
             :class:`FitResult`: estimate, EOF, evaluations, history).
         sigma_distance, sigma_normal: the criterion's noise scales ([m], [1]), None where one
             part was asked for.
-        holes: with ``holes=True``: the costs of the union and of a supertoroid by the same
-            criterion, the kind chosen and the ring's evaluations
+        holes: with ``holes=True``: every candidate's cost by the same criterion, its ring's
+            inner-wall share, the candidate chosen and the rings' evaluations
             (:func:`hapticsim.fitting.toroid.choose_holed`); else None.
     """
 

@@ -38,7 +38,13 @@ from numpy.typing import NDArray
 from hapticsim.constants import EPS_MAX, EPS_MIN
 from hapticsim.geometry.rotations import matrix_to_rotvec, rotvec_to_matrix
 from hapticsim.geometry.solid import Solid
-from hapticsim.geometry.supertoroid import HOLE_MAX, HOLE_MIN, Supertoroid, body_normals
+from hapticsim.geometry.supertoroid import (
+    HOLE_MAX,
+    HOLE_MIN,
+    Supertoroid,
+    body_normals,
+    tube_coordinates,
+)
 
 Array = NDArray[np.float64]
 
@@ -79,12 +85,10 @@ def _residuals(a: Array, eps: Array, hole: float, rotation: Array, center: Array
     """:func:`toroid_residuals` of raw parameters (the search's: no solid is made)."""
     b = (points - center) @ rotation
     a1, a2, a3 = a
-    e1, e2 = eps
     rho = np.hypot(b[:, 0], b[:, 1])
-    r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+    r, u, w, f = tube_coordinates(b, a, eps, hole)
     scale = np.where(r > 1e-12, rho / np.maximum(r, 1e-12), 0.5 * (a1 + a2))  # m per unit of r
-    u, w = r - hole, b[:, 2] / a3
-    tube = (np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)) ** (e1 / 2)
+    tube = f ** (eps[0] / 2)
     offset = np.hypot(u * scale, w * a3)
     d1 = offset * np.abs(1.0 - 1.0 / np.maximum(tube, 1e-12))
     d2 = np.sum((normals @ rotation - body_normals(b, a, eps, hole)) ** 2, axis=1)
@@ -168,13 +172,17 @@ def holed_cost(solid: Solid, points: Array, normals: Array, sigma_distance: floa
                sigma_normal: float) -> float:  # fmt: skip
     """Multi's robust criterion of a candidate solid (module docstring): 13 parameters a
     superquadric part, 12 a ring."""
+    return _cost(solid, _misfit(solid, points, normals, sigma_distance, sigma_normal))
+
+
+def _cost(solid: Solid, z2: Array) -> float:
+    """:func:`holed_cost` from the contacts' misfits `z2` (n,) against `solid`."""
     from hapticsim.fitting.multi import CAP
     from hapticsim.geometry.superquadric import N_PARAMS
 
-    z2 = _misfit(solid, points, normals, sigma_distance, sigma_normal)
     params = sum(N_TOROID_PARAMS if p.kind == "supertoroid" else N_PARAMS
                  for p in solid.components)  # fmt: skip
-    return float(np.sum(np.minimum(z2, CAP**2)) + params * np.log(len(points)))
+    return float(np.sum(np.minimum(z2, CAP**2)) + params * np.log(len(z2)))
 
 
 def inner_share(ring: Supertoroid, points: Array, normals: Array) -> float:
@@ -184,9 +192,7 @@ def inner_share(ring: Supertoroid, points: Array, normals: Array) -> float:
     run along the axis.)"""
     b = ring.to_body(points)
     nb = np.asarray(normals) @ ring.rotation
-    a1, a2, _ = ring.a
-    e2 = ring.eps[1]
-    r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+    r = tube_coordinates(b, ring.a, ring.eps, ring.hole)[0]
     rho = np.maximum(np.hypot(b[:, 0], b[:, 1]), 1e-12)
     radial = (nb[:, 0] * b[:, 0] + nb[:, 1] * b[:, 1]) / rho
     return float(np.mean((r < ring.hole) & (radial < -0.5)))
@@ -203,8 +209,7 @@ def choose_holed(
     contacts worst (the largest summed misfit, with at least :data:`MIN_RING_CONTACTS` contacts
     nearest it) replaced by a ring fitted to those contacts; and the union with a ring added,
     fitted to the contacts it explains worst (their z^2 above ``(CAP / 2)^2``), where there are
-    that many. A ring must have :data:`MIN_INNER_SHARE` of its
-    own contacts on its inner wall.
+    that many. A ring must have :data:`MIN_INNER_SHARE` of its own contacts on its inner wall.
 
     Returns:
         the chosen solid, and ``{"costs": {name: cost}, "inner_share": {name: share},
@@ -226,7 +231,8 @@ def choose_holed(
     every = np.ones(len(points), dtype=bool)
     ring = ring_on(every)
     rings["supertoroid"] = (ring, ring, every)
-    z2 = np.minimum(_misfit(union, points, normals, sigma_distance, sigma_normal), CAP**2)
+    misfit = _misfit(union, points, normals, sigma_distance, sigma_normal)
+    z2 = np.minimum(misfit, CAP**2)
     if len(parts) > 1:  # the part that explains its contacts worst (by their summed misfit)
         owner = union.part_of(points)
         k = int(np.argmax(np.bincount(owner, weights=z2, minlength=len(parts))))
@@ -239,7 +245,7 @@ def choose_holed(
     if np.count_nonzero(worst) >= MIN_RING_CONTACTS:
         ring = ring_on(worst)
         rings["a ring added"] = (SuperquadricUnion((*parts, ring)), ring, worst)
-    costs = {"union": holed_cost(union, points, normals, sigma_distance, sigma_normal)}
+    costs = {"union": _cost(union, misfit)}
     inner: dict[str, float] = {}
     for name, (solid, ring, mine) in rings.items():
         costs[name] = holed_cost(solid, points, normals, sigma_distance, sigma_normal)

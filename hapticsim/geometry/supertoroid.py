@@ -57,6 +57,17 @@ def _frozen(arr: Array) -> Array:
     return arr
 
 
+def tube_coordinates(b: Array, a: Array, eps: Array, hole: float) -> tuple[Array, ...]:
+    """Body-frame points `b` (n, 3) in the tube's terms (module docstring), each (n,): ``r``
+    the xy superellipse radius (in units of a1, a2), ``u = r - hole`` and ``w = z / a3`` the
+    offsets from the tube's centre line, and ``F = |u|^(2/eps1) + |w|^(2/eps1)``."""
+    a1, a2, a3 = a
+    e1, e2 = eps
+    r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
+    u, w = r - hole, b[:, 2] / a3
+    return r, u, w, np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)
+
+
 def body_normals(b: Array, a: Array, eps: Array, hole: float) -> Array:
     """(n, 3) outward unit normals at body-frame points `b` (n, 3): F's gradient (module
     docstring), finite off the axis; a point on the tube's centre line gets the radial
@@ -146,10 +157,7 @@ class Supertoroid(Solid):
         return self._f_body(b)
 
     def _f_body(self, b: Array) -> Array:
-        a1, a2, a3 = self.a
-        e1, e2 = self.eps
-        r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
-        return np.abs(r - self.hole) ** (2 / e1) + np.abs(b[:, 2] / a3) ** (2 / e1)
+        return tube_coordinates(b, self.a, self.eps, self.hole)[3]
 
     def log_inside_outside(self, points_world: Array) -> Array:
         """(n,) float, log F (< 0 inside): the union's measure of which part is nearest."""
@@ -214,14 +222,11 @@ class Supertoroid(Solid):
         from the tube's centre line in the point's cross-section (the superquadric's radial
         projection, with the tube in its place)."""
         b = self.to_body(points_world)
-        a1, a2, a3 = self.a
-        e1, e2 = self.eps
-        r = (np.abs(b[:, 0] / a1) ** (2 / e2) + np.abs(b[:, 1] / a2) ** (2 / e2)) ** (e2 / 2)
-        u, w = r - self.hole, b[:, 2] / a3
-        t = np.maximum((np.abs(u) ** (2 / e1) + np.abs(w) ** (2 / e1)) ** (e1 / 2), 1e-12)
+        r, u, w, f = tube_coordinates(b, self.a, self.eps, self.hole)
+        t = np.maximum(f ** (self.eps[0] / 2), 1e-12)
         r_q = self.hole + u / t
         scale = np.where(r > 1e-12, r_q / np.maximum(r, 1e-12), 1.0)
-        q = np.stack([b[:, 0] * scale, b[:, 1] * scale, a3 * w / t], axis=1)
+        q = np.stack([b[:, 0] * scale, b[:, 1] * scale, self.a[2] * w / t], axis=1)
         return q @ self.rotation.T + self.center
 
     def contact_errors(self, points_world: Array, normals_world: Array) -> tuple[Array, Array]:
@@ -402,4 +407,4 @@ class Supertoroid(Solid):
                 f"hole={self.hole:.3f}, center={f(self.center, precision=4)})")  # fmt: skip
 
 
-__all__ = ["HOLE_MAX", "HOLE_MIN", "SECTORS", "Supertoroid", "body_normals"]
+__all__ = ["HOLE_MAX", "HOLE_MIN", "SECTORS", "Supertoroid", "body_normals", "tube_coordinates"]

@@ -100,7 +100,9 @@ def test_registered_answers_agree_with_the_generic_ones(name: str) -> None:
 @pytest.mark.parametrize("name", ["superquadric", "union"])
 def test_a_new_kind_is_scored_through_the_generic_answers(name: str) -> None:
     # the same solid seen as a kind that registers nothing scores as its registered self, to
-    # the samples' precision (4096 interior samples: epsilon within a few 0.01)
+    # the samples' precision (4096 interior samples; measured: epsilon 0.005 / 0.001 apart,
+    # Chamfer 1.1 % / 0 %, against 100 000 Monte Carlo samples 0.0015 / 0.0022, as a truth
+    # 0.008 / 0.002, for the superquadric / the union)
     solid, truth = SOLIDS[name], TAPERED.scaled(1.1)
     scorer = TruthScorer(truth, rng=0)
     fast, plain = scorer.score(solid), scorer.score(Plain(solid))
