@@ -1,12 +1,12 @@
-"""The benchmark's tasks (protocol ``hapticsim-bench/1``): object family x sensing x backend x
+"""The benchmark's tasks (protocol ``hapticsim-bench/2``): object family x sensing x backend x
 touch budget, each with a fixed dev split and a fixed test split of episode seeds.
 
 A task is named ``FAMILY/SENSING/BACKEND/tTOUCHES`` (``paper/exact/analytic/t20``):
 
 - families: ``paper`` (the paper's four bodies), ``random`` (random tapered superquadrics),
   ``composite`` (unions of 2-4 superquadrics), ``holed`` (random rings: supertoroids, objects
-  with a hole; added to ``hapticsim-bench/1`` after its first tasks, which it leaves as they
-  were);
+  with a hole), ``pybullet`` (pybullet_data's procedural objects: meshes of a few fused convex
+  blobs, 9-15 cm; extra ``objects``);
 - sensing: ``exact`` (the simulator's contacts), ``vision`` and ``capacitive`` (contacts
   estimated from taxel pads with those skin presets);
 - backends: ``analytic`` (ray casting on the exact surface) and ``mujoco`` (the hand);
@@ -24,11 +24,14 @@ from typing import Any
 
 from hapticsim.errors import ChoiceError, InvalidInputError
 
-#: The protocol's version: a change of tasks, splits or metrics is a new version.
-PROTOCOL: str = "hapticsim-bench/1"
+#: The protocol's version: a change of tasks, splits or metrics is a new version (2: the
+#: metrics from one fixed-sample scorer per episode, the ``pybullet`` family; 1 drew fresh
+#: samples for every estimate).
+PROTOCOL: str = "hapticsim-bench/2"
 #: Object families and the environment's distribution each draws from.
 FAMILIES: dict[str, str] = {"paper": "paper", "random": "random_tapered",
-                            "composite": "random_composite", "holed": "random_holed"}  # fmt: skip
+                            "composite": "random_composite", "holed": "random_holed",
+                            "pybullet": "random_pybullet"}  # fmt: skip
 #: Sensings: (the environment's sensing, skin preset).
 SENSINGS: dict[str, tuple[str, str | None]] = {
     "exact": ("exact", None), "vision": ("tactile", "vision"),

@@ -38,6 +38,7 @@ from hapticsim.geometry.solid import Solid
 #: Kinds of object distributions.
 OBJECT_KINDS: tuple[str, ...] = (
     "paper", "random", "random_tapered", "random_composite", "random_holed", "random_handled",
+    "random_pybullet",
 )  # fmt: skip
 
 
@@ -49,7 +50,10 @@ class ObjectDistribution:
         kind: ``"paper"`` (the paper's four bodies, :mod:`hapticsim.data.bodies`), ``"random"``
             (random superquadrics without taper), ``"random_tapered"`` or ``"random_composite"``
             (unions of 2-4 random superquadrics, :func:`hapticsim.data.objects.random_composite`;
-            the ranges below are for the single superquadrics).
+            the ranges below are for the single superquadrics), ``"random_holed"``,
+            ``"random_handled"``, or ``"random_pybullet"`` (one of pybullet_data's 1,000
+            procedural objects, ``pybullet:random/NNN``, drawn uniformly and centred; extra
+            ``objects``).
         bodies: for ``"paper"``, the body names to draw from uniformly (default: all four).
         a_range: semi-axis range (low, high) [m] of random objects.
         eps_range: exponent range (low, high) of random objects, within [0.1, 2.0].
@@ -116,6 +120,11 @@ class ObjectDistribution:
             shape = random_holed(rng)
         elif self.kind == "random_handled":
             shape = random_handled(rng)
+        elif self.kind == "random_pybullet":
+            from hapticsim.data.library import PREFIX, RANDOM_COUNT
+
+            name = f"{PREFIX}random/{int(rng.integers(RANDOM_COUNT)):03d}"
+            shape = as_spec(name).resolve()  # centred on its centroid
         else:
             shape = random_superquadric(
                 rng, self.kind == "random_tapered", self.a_range, self.eps_range, self.taper_range

@@ -111,6 +111,19 @@ def _profiled(theta: np.ndarray, u: np.ndarray, y: np.ndarray) -> tuple[float, A
     return 0.5 * (m * np.log(scale) + logdet + m), (factor, alpha, scale)
 
 
+def require_marching_cubes() -> Any:
+    """scikit-image's ``marching_cubes``, or one line saying how to install it.
+
+    Raises:
+        InvalidInputError: scikit-image is not installed.
+    """
+    try:
+        from skimage.measure import marching_cubes
+    except ImportError:
+        raise InvalidInputError("GPIS needs scikit-image: pip install 'hapticsim[gpis]'") from None
+    return marching_cubes
+
+
 def fit_gpis(
     points: Any, normals: Any, resolution: int = RESOLUTION, max_iterations: int = 80,
 ) -> GpisFit:  # fmt: skip
@@ -128,10 +141,7 @@ def fit_gpis(
     """
     from scipy.optimize import minimize
 
-    try:
-        from skimage.measure import marching_cubes
-    except ImportError:
-        raise InvalidInputError("GPIS needs scikit-image: pip install 'hapticsim[gpis]'") from None
+    marching_cubes = require_marching_cubes()
     pts = physical_points(points, "points", min_count=4)
     if len(pts) > MAX_GPIS_CONTACTS:
         raise InvalidInputError(

@@ -196,15 +196,16 @@ def _foot_search(
     sz: float,
     shape: np.ndarray,
     iterations: int,
-) -> tuple[float, float]:
+) -> tuple[float, float, float, float, float]:
     """From the start s (a body point whose ray gives the first surface point), alternate: the
     surface point p on the ray, then q's projection onto the tangent plane at p for the next ray.
 
-    Returns ``(smallest |q - p| seen, sine of the angle between q - p and the normal there)``:
-    every p is on the surface, so the first is an upper bound of the distance; it is the
-    distance (a foot point) when the second is 0.
+    Returns ``(smallest |q - p| seen, sine of the angle between q - p and the normal there, that
+    normal (body frame, unit))``: every p is on the surface, so the first is an upper bound of the
+    distance; it is the distance (a foot point) when the second is 0.
     """
     best, off = math.inf, 1.0
+    bx, by, bz = 0.0, 0.0, 1.0
     for _ in range(iterations + 1):
         x, y, z, nx, ny, nz = _radial_point(sx, sy, sz, shape)
         ex, ey, ez = qx - x, qy - y, qz - z
@@ -213,10 +214,11 @@ def _foot_search(
         if dist < best:
             best = dist
             off = math.sqrt(max(dist * dist - along * along, 0.0)) / dist if dist > 0.0 else 0.0
+            bx, by, bz = nx, ny, nz
         if off < _CONVERGED:  # q - p along the normal: a foot point, the next step returns p
             break
         sx, sy, sz = qx - along * nx, qy - along * ny, qz - along * nz
-    return best, off
+    return best, off, bx, by, bz
 
 
 #: Directions (body frame, before scaling by a) of the restarts of :func:`surface_distances`:
@@ -236,22 +238,29 @@ _RESTARTS = np.array(
 @njit(**JIT)
 def surface_distances(
     points: np.ndarray, shape: np.ndarray, rot: np.ndarray, center: np.ndarray,
-    iterations: int, out: np.ndarray,
+    iterations: int, out: np.ndarray, normals: np.ndarray, starts: np.ndarray,
 ) -> None:  # fmt: skip
-    """Euclidean distance [m] of world points (3, n) to the surface, into `out` (n,).
+    """Euclidean distance [m] of world points (3, n) to the surface, into `out` (n,), and where
+    `normals` is (3, n) (not (3, 0)) the surface's unit outward normal at each point's foot
+    point [world], into it. Where `starts` is (3, n) (not (3, 0)), a further search starts from
+    each point's start (a world point near its foot point, such as the nearest of a surface
+    sample: on sharp edges the search from the point's own ray may stop short of the foot).
 
     A foot-point search (:func:`_foot_search`) from the point's own ray. Outside the (convex)
     solid the foot point is unique and the search finds it in two or three steps. Inside, there
     may be several (one per face): there the distance is the smallest distance to a tangent
     plane (the solid is the intersection of its tangent half-spaces), so the tangent planes at
     the 26 face, edge and corner directions of the solid's box are tried too, and a second
-    search starts from the nearest of them; the smaller result is kept. (Two passes, the first
-    over all points and branch-free, so that it vectorises.)
+    search starts from the nearest of them; the smaller result is kept (and the normal of the
+    plane or foot point it came from). (Two passes, the first over all points and branch-free,
+    so that it vectorises.)
     """
     n = points.shape[1]
+    keep = normals.shape[1] == n
     a1, a2, a3 = shape[0], shape[1], shape[2]
     e1, e2, tx, ty = shape[3], shape[4], shape[5], shape[6]
     body = np.empty((3, n))
+    foot = np.empty((3, n))
     inside = np.empty(n, np.bool_)
     for i in range(n):
         d0, d1, d2 = points[0, i] - center[0], points[1, i] - center[1], points[2, i] - center[2]
@@ -259,7 +268,9 @@ def surface_distances(
         qy = rot[0, 1] * d0 + rot[1, 1] * d1 + rot[2, 1] * d2
         qz = rot[0, 2] * d0 + rot[1, 2] * d1 + rot[2, 2] * d2
         body[0, i], body[1, i], body[2, i] = qx, qy, qz
-        out[i] = _foot_search(qx, qy, qz, qx, qy, qz, shape, iterations)[0]
+        out[i], _, foot[0, i], foot[1, i], foot[2, i] = _foot_search(
+            qx, qy, qz, qx, qy, qz, shape, iterations
+        )
         xs, ys, _, _ = untapered(qx, qy, qz, a3, tx, ty)
         inside[i] = log_inside_outside(xs, ys, qz, a1, a2, a3, e1, e2)[0] < 0.0
     planes = np.empty((_RESTARTS.shape[0], 6))
@@ -270,13 +281,36 @@ def surface_distances(
     for i in np.nonzero(inside)[0]:
         qx, qy, qz = body[0, i], body[1, i], body[2, i]
         plane, sx, sy, sz = math.inf, qx, qy, qz
+        px, py, pz = 0.0, 0.0, 1.0
         for r in range(planes.shape[0]):
             x, y, z, nx, ny, nz = planes[r]
             gap = (x - qx) * nx + (y - qy) * ny + (z - qz) * nz  # >= the distance
             if gap < plane:
                 plane, sx, sy, sz = gap, qx + gap * nx, qy + gap * ny, qz + gap * nz
-        dist = _foot_search(qx, qy, qz, sx, sy, sz, shape, iterations)[0]
+                px, py, pz = nx, ny, nz
+        dist, _, fx, fy, fz = _foot_search(qx, qy, qz, sx, sy, sz, shape, iterations)
+        if dist < out[i]:
+            foot[0, i], foot[1, i], foot[2, i] = fx, fy, fz
+        if plane < min(out[i], dist):
+            foot[0, i], foot[1, i], foot[2, i] = px, py, pz
         out[i] = min(out[i], dist, plane)
+    if starts.shape[1] == n:
+        for i in range(n):
+            d0, d1 = starts[0, i] - center[0], starts[1, i] - center[1]
+            d2 = starts[2, i] - center[2]
+            sx = rot[0, 0] * d0 + rot[1, 0] * d1 + rot[2, 0] * d2
+            sy = rot[0, 1] * d0 + rot[1, 1] * d1 + rot[2, 1] * d2
+            sz = rot[0, 2] * d0 + rot[1, 2] * d1 + rot[2, 2] * d2
+            dist, _, fx, fy, fz = _foot_search(
+                body[0, i], body[1, i], body[2, i], sx, sy, sz, shape, iterations
+            )
+            if dist < out[i]:
+                out[i], foot[0, i], foot[1, i], foot[2, i] = dist, fx, fy, fz
+    if keep:
+        for i in range(n):
+            for k in range(3):
+                normals[k, i] = (rot[k, 0] * foot[0, i] + rot[k, 1] * foot[1, i]
+                                 + rot[k, 2] * foot[2, i])  # fmt: skip
 
 
 @njit(**JIT)

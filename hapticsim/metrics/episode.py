@@ -36,6 +36,7 @@ Chamfer distance on 30 estimate/truth pairs (random tapered and paper bodies, 4 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,6 +50,7 @@ from hapticsim.geometry.sampling import (
 )
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.metrics import scorer_kinds as kinds
+from hapticsim.metrics.surface import DEFAULT_F_THRESHOLDS, SurfaceScore, f_score, thresholds_arg
 from hapticsim.metrics.volume import intersection_and_iou
 
 Array = NDArray[np.float64]
@@ -122,7 +124,7 @@ class TruthScorer:
     def _set_truth(self, truth: Solid, gen: np.random.Generator) -> None:
         self.truth = truth
         self._truth_inside = np.ascontiguousarray(kinds.quasi_interior(truth, self.samples, gen).T)
-        self._truth_surface = self._surface(truth, gen)
+        self._truth_surface = self._surface(truth, gen, normals=True)
 
     def with_truth(self, truth: Solid, rng: np.random.Generator | int | None = 0) -> TruthScorer:
         """A scorer for another truth that shares this one's truth-independent random numbers
@@ -151,21 +153,53 @@ class TruthScorer:
             chamfer=float(distance), samples=(int(kept), n_s),
         )  # fmt: skip
 
-    def _surface(self, solid: Solid, gen: np.random.Generator) -> tuple[Array, Array]:
-        """Surface points (3, K) [m, world] and their weights: on the fixed directions where the
-        solid has a lattice surface, else `chamfer_samples` area-uniform points (equal weights).
-        """
+    def surface(self, estimate: Solid, thresholds: Any = DEFAULT_F_THRESHOLDS) -> SurfaceScore:
+        """F-score, precision and recall at each threshold, normal consistency and the Chamfer
+        distance of `estimate` (:mod:`hapticsim.metrics.surface`'s measures) from the scorer's
+        fixed surface points: the weighted fractions and means over each surface's points, the
+        other surface's normal at each point's foot point
+        (:func:`~hapticsim.metrics.scorer_kinds.foot_normals`). The Chamfer distance is
+        :meth:`score`'s."""
+        est = solid_arg(estimate, "estimate")
+        taus = thresholds_arg(thresholds)
+        points, weights, normals = self._surface(est, np.random.default_rng(_SURFACE_SEED), True)
+        truth_points, truth_weights, own_normals = self._truth_surface
+        to_truth, truth_normals = kinds.foot_normals(self.truth, points, truth_points)
+        to_estimate, estimate_normals = kinds.foot_normals(est, truth_points, points)
+        precision = tuple(float(np.average(to_truth <= t, weights=weights)) for t in taus)
+        recall = tuple(float(np.average(to_estimate <= t, weights=truth_weights)) for t in taus)
+        agree = np.abs(np.sum(normals * truth_normals, axis=0))
+        agree_truth = np.abs(np.sum(own_normals * estimate_normals, axis=0))
+        return SurfaceScore(
+            thresholds=taus, precision=precision, recall=recall,
+            f_score=tuple(f_score(p, r) for p, r in zip(precision, recall, strict=True)),
+            normal_consistency=float(0.5 * (np.average(agree, weights=weights)
+                                            + np.average(agree_truth, weights=truth_weights))),
+            chamfer=0.5 * (float(np.average(to_truth, weights=weights))
+                           + float(np.average(to_estimate, weights=truth_weights))),
+            samples=int(points.shape[1]),
+        )  # fmt: skip
+
+    def _surface(
+        self, solid: Solid, gen: np.random.Generator, normals: bool = False
+    ) -> tuple[Array, Array, Array | None]:
+        """Surface points (3, K) [m, world], their weights and (where asked) outward normals
+        (3, K): on the fixed directions where the solid has a lattice surface, else
+        `chamfer_samples` area-uniform points (equal weights)."""
         lattice = kinds.lattice_surface(solid, self._directions)
         if lattice is not None:
-            return lattice
-        points, _ = solid.sample_surface(self.chamfer_samples, gen)
-        return np.ascontiguousarray(points.T), np.ones(self.chamfer_samples)
+            points, weights = lattice
+            return points, weights, (np.ascontiguousarray(solid.normals(points.T).T)
+                                     if normals else None)  # fmt: skip
+        points, normals = solid.sample_surface(self.chamfer_samples, gen)
+        return (np.ascontiguousarray(points.T), np.ones(self.chamfer_samples),
+                np.ascontiguousarray(normals.T))  # fmt: skip
 
     def _chamfer(self, estimate: Solid) -> float:
         """Area-weighted mean distances between the two surfaces, averaged (SPEC §4) [m]."""
-        points, weights = self._surface(estimate, np.random.default_rng(_SURFACE_SEED))
+        points, weights, _ = self._surface(estimate, np.random.default_rng(_SURFACE_SEED))
         to_truth = kinds.foot_distances(self.truth, points)
-        truth_points, truth_weights = self._truth_surface
+        truth_points, truth_weights, _ = self._truth_surface
         to_estimate = kinds.foot_distances(estimate, truth_points)
         return 0.5 * (
             float(np.average(to_truth, weights=weights))

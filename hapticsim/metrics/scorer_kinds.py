@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.geometry import _sampling_compiled as kernel
+from hapticsim.geometry.mesh_solid import MeshSolid
 from hapticsim.geometry.sampling import (
     AREA_STEP,
     CANDIDATES_PER_SAMPLE,
@@ -148,14 +149,56 @@ def _(solid: Superquadric, points: Array) -> Array:
     # exact distances by foot-point iteration, compiled (_sampling_compiled.surface_distances)
     out = np.empty(points.shape[1])
     kernel.surface_distances(np.ascontiguousarray(points), *kernel.unpack(solid),
-                             FOOT_ITERATIONS, out)  # fmt: skip
+                             FOOT_ITERATIONS, out, _NONE, _NONE)  # fmt: skip
     return out
+
+
+#: An empty (3, 0) array: the compiled distances' "not asked" for normals and starts.
+_NONE = np.empty((3, 0))
+
+
+@singledispatch
+def foot_normals(solid: Solid, points: Array, surface: Array) -> tuple[Array, Array]:
+    """``(distances (K,) [m], normals (3, K))``: the distance of each point (3, K) to the surface
+    of `solid` and the surface's outward normal at the closest point [world]; `surface` (3, M)
+    are points on that surface (a superquadric's searches also start from the nearest of them,
+    which finds the foot point beyond a sharp edge). Generic: its
+    :meth:`~hapticsim.geometry.solid.Solid.surface_distance` and the normal at the closest point
+    of its surface mesh (:func:`hapticsim.metrics.surface.normals_at_closest`)."""
+    from hapticsim.metrics.surface import normals_at_closest
+
+    pts = np.asarray(points).T
+    return solid.surface_distance(pts), np.ascontiguousarray(normals_at_closest(solid, pts).T)
+
+
+@foot_normals.register
+def _(solid: Superquadric, points: Array, surface: Array) -> tuple[Array, Array]:
+    # the foot-point iteration's own normal at the foot point, in the same compiled pass
+    from scipy.spatial import cKDTree
+
+    points = np.ascontiguousarray(points)
+    _, nearest = cKDTree(surface.T).query(points.T)
+    starts = np.ascontiguousarray(surface[:, nearest])
+    out, normals = np.empty(points.shape[1]), np.empty((3, points.shape[1]))
+    kernel.surface_distances(points, *kernel.unpack(solid), FOOT_ITERATIONS, out, normals,
+                             starts)  # fmt: skip
+    return out, normals
+
+
+@foot_normals.register
+def _(solid: MeshSolid, points: Array, surface: Array) -> tuple[Array, Array]:
+    # one search gives both: the closest point and its face's normal
+    pts = np.asarray(points).T
+    closest, face = solid.nearest(pts, exact=False)
+    normals = np.asarray(solid.face_normals)[face]
+    return np.linalg.norm(closest - pts, axis=1), np.ascontiguousarray(normals.T)
 
 
 __all__ = [
     "count_outside",
     "count_outside_of",
     "foot_distances",
+    "foot_normals",
     "interior_from_candidates",
     "lattice_surface",
     "quasi_interior",
