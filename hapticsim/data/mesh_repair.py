@@ -128,7 +128,7 @@ def repair_mesh(
         vertices (v', 3) [file units] and faces (f', 3) of the solid, and the repair record.
 
     Raises:
-        InvalidInputError: no triangles; a hole larger than :data:`MAX_HOLE` (its size named);
+        InvalidInputError: no triangles; vertices that are not finite; a hole larger than :data:`MAX_HOLE` (its size named);
             several bodies further apart than :data:`TOUCH_GAP` (how many, how far); a surface
             that stays open.
     """
@@ -138,6 +138,12 @@ def repair_mesh(
     f = np.asarray(faces, dtype=np.int64)
     if len(f) == 0 or len(v) < 3:
         raise InvalidInputError(f"mesh {name} is empty: it holds no triangles")
+    if not np.all(np.isfinite(v)):
+        bad = int(np.count_nonzero(~np.all(np.isfinite(v), axis=1)))
+        raise InvalidInputError(
+            f"mesh {name} has {bad} of {len(v)} vertices with non-finite coordinates (NaN or "
+            "infinity): the file is damaged"
+        )
     report = MeshRepair()
     diagonal = float(np.linalg.norm(np.ptp(v, axis=0)))
     if diagonal <= 0:
