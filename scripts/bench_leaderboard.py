@@ -6,8 +6,9 @@ Runs, on the test split (20 touches, analytic backend) of every family with exac
 ``vision`` sensing, the six baseline policies with the environment's nH estimator, and nML,
 multi and GPIS (scored at touches 5, 10 and 20) with the uncertainty policy: every episode of
 every cell in one map (costly tasks first) on a local Dask cluster by default. Writes one results
-file per cell into ``OUT/results/`` (every touch's metrics and estimate: tens of megabytes for
-the full board, so not committed; the command regenerates them), the leaderboard
+file per cell into ``--results`` (default ``runs/leaderboard/``: every touch's metrics and
+estimate, tens of megabytes for the full board, so not committed; the command regenerates
+them), the leaderboard
 (``hapticsim bench report``: ``leaderboard.md``, ``index.html``), ``summary.json`` (each cell's
 areas under the touch curves with their intervals and final values) and the manifest (command,
 commit, machine, packages, seconds) into OUT. Progress on stderr. Needs the extras
@@ -38,6 +39,7 @@ SENSINGS = ("exact", "vision")
 POLICIES = ("uncertainty", "random", "paper", "information", "learned", "learned-touch")
 ESTIMATORS = ("nML", "multi", "gpis")
 OUT = Path(__file__).resolve().parents[1] / "docs" / "leaderboard"
+RESULTS = Path(__file__).resolve().parents[1] / "runs" / "leaderboard"
 #: Relative cost of an episode by family and sensing (measured: CPU seconds per episode with the
 #: uncertainty policy), to start the costly ones first.
 COST = {"pybullet": 4.0, "composite": 1.5, "holed": 1.0, "paper": 0.7, "random": 0.7}
@@ -89,6 +91,8 @@ def _board(argv: list[str] | None) -> int:
                         help="local processes instead of Dask")  # fmt: skip
     parser.add_argument("--families", default=",".join(FAMILIES))
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--results", type=Path, default=RESULTS,
+                        help="the per-cell results files (default runs/leaderboard)")  # fmt: skip
     args = parser.parse_args(argv)
     command = ["python", "scripts/bench_leaderboard.py", *(argv or sys.argv[1:])]
     board = cells(args.families.split(","))
@@ -107,7 +111,8 @@ def _board(argv: list[str] | None) -> int:
                         names=lambda j: j.label, unit="episode", scheduler=scheduler,
                         cost=cost)  # fmt: skip
     seconds = time.perf_counter() - start
-    results_dir = args.out / "results"
+    results_dir = args.results
+    args.out.mkdir(parents=True, exist_ok=True)
     results_dir.mkdir(parents=True, exist_ok=True)
     for old in [*args.out.glob("*__*.json"), *results_dir.glob("*__*.json")]:
         old.unlink()  # a board is one run: no cell of an earlier one stays behind

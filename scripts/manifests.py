@@ -122,7 +122,10 @@ def index_text(folders: list[Path]) -> str:
         if isinstance(command, list):
             command = " ".join(command)
         commit = (m.get("commit") or (m.get("git") or {}).get("commit") or "")[:10]
-        lines.append(f"| `{rel}` | {len(m.get('files') or [])} | `{command}` | {commit} |")
+        count = sum(1 for f in folder.iterdir()  # the result files committed here
+                    if f.suffix in RESULT_SUFFIXES and f.name != "manifest.json")  # fmt: skip
+        command = command.replace("|", "\\|")  # a table cell
+        lines.append(f"| `{rel}` | {count} | `{command}` | {commit} |")
     return "\n".join(lines) + "\n"
 
 

@@ -315,13 +315,15 @@ def bench_results(
 
 
 def _check_policy(policy: str, task: Task) -> None:
-    """Make the policy once on the task's environment (bad names and plug-ins fail here)."""
+    """Make the policy once on the task's environment, reset (bad names and plug-ins, and an
+    object family whose extra is missing, fail here, before any worker starts)."""
     from hapticsim.envs.haptic_explore_tactile_v0 import make_v0
 
     kwargs = task.env_kwargs() | {"backend": "analytic"}
     env = make_v0(**kwargs)
     try:
         make_bench_policy(policy, env, 0)
+        env.reset(seed=0)
     finally:
         env.close()
 

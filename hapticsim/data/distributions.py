@@ -135,8 +135,8 @@ class ObjectDistribution:
 def _random_pybullet(rng: np.random.Generator) -> Solid:
     """One of pybullet_data's 1,000 procedural objects (``pybullet:random/NNN``), drawn uniformly
     among those that are one closed solid, centred on its centroid: an object refused as it is
-    read (measured: 169 of the 1,000, 116 of them two or more pieces apart, 53 open or
-    inconsistent surfaces, one with non-finite vertices) is drawn again.
+    read (measured: 169 of the 1,000: 115 in two or more pieces apart, 53 open or
+    inconsistent surfaces, random/168 with non-finite vertices) is drawn again.
 
     Raises:
         InvalidInputError: pybullet is not installed (the message says how to install it).

@@ -75,7 +75,8 @@ def test_the_leaderboard_pairs_results_on_their_seeds(results: dict, tmp_path: P
     b.write_text(json.dumps(results))
     files = write_report([a, b], tmp_path / "board")
     assert files["markdown"].read_text() == leaderboard([results, results])
-    assert "data:image/png;base64," in files["html"].read_text()
+    page = files["html"].read_text()
+    assert page.count("<svg") == 1 and "</svg>" in page  # the curves, inline
 
 
 def test_bad_input_is_one_line_and_no_file(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
@@ -184,3 +185,33 @@ def test_a_missing_gpis_extra_is_said_before_any_episode(monkeypatch) -> None:
     monkeypatch.setitem(sys.modules, "skimage.measure", None)
     with pytest.raises(InvalidInputError, match="scikit-image"):
         run_bench("paper/exact/analytic/t20", "random", 1, estimator="gpis", progress=False)
+
+
+def test_the_pybullet_family_draws_again_past_what_is_refused() -> None:
+    # random/168 (damaged) and random/019 (two pieces) are refused as read; a draw that lands on
+    # them is drawn again, the same way for the same seed
+    pytest.importorskip("pybullet_data")
+    from hapticsim.data.distributions import ObjectDistribution
+
+    family = ObjectDistribution(kind="random_pybullet")
+
+    class Landing:  # a generator whose first draws are refused objects
+        def __init__(self) -> None:
+            self.draws = iter([168, 19, 1])
+
+        def integers(self, high: int) -> int:
+            return next(self.draws)
+
+    solid = family.sample(Landing())
+    assert solid.kind == "mesh" and np.allclose(solid.centroid, 0.0, atol=1e-9)
+    a = family.sample(np.random.default_rng(4))
+    b = family.sample(np.random.default_rng(4))
+    assert a.volume == b.volume
+
+
+def test_the_pybullet_family_without_pybullet_is_one_line(monkeypatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pybullet_data", None)
+    with pytest.raises(InvalidInputError, match="pip install 'hapticsim\\[objects\\]'"):
+        run_bench("pybullet/exact/analytic/t20", "random", 1, progress=False)

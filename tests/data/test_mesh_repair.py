@@ -114,3 +114,8 @@ def test_what_is_not_one_solid_is_refused_saying_why(tmp_path: Path) -> None:
     cut = trimesh.Trimesh(sphere.vertices, sphere.faces[~cap])
     with pytest.raises(InvalidInputError, match=r"1 holes, the largest \d+(\.\d+)? mm across"):
         load_mesh(_write(cut, tmp_path / "bowl.stl"))
+    box = trimesh.creation.box((0.02, 0.02, 0.02))
+    damaged = np.asarray(box.vertices, dtype=float)
+    damaged[3] = np.nan  # as pybullet_data's random/168.obj holds only NaN vertices
+    with pytest.raises(InvalidInputError, match=r"mesh m has 1 of 8 vertices with non-finite"):
+        repair_mesh(damaged, np.asarray(box.faces), "m")
