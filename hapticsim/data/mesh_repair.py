@@ -128,7 +128,8 @@ def repair_mesh(
         vertices (v', 3) [file units] and faces (f', 3) of the solid, and the repair record.
 
     Raises:
-        InvalidInputError: no triangles; vertices that are not finite; a hole larger than :data:`MAX_HOLE` (its size named);
+        InvalidInputError: no triangles; vertices that are not finite; a hole larger than
+            :data:`MAX_HOLE` (its size named);
             several bodies further apart than :data:`TOUCH_GAP` (how many, how far); a surface
             that stays open.
     """

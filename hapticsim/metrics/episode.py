@@ -158,8 +158,10 @@ class TruthScorer:
         distance of `estimate` (:mod:`hapticsim.metrics.surface`'s measures) from the scorer's
         fixed surface points: the weighted fractions and means over each surface's points, the
         other surface's normal at each point's foot point
-        (:func:`~hapticsim.metrics.scorer_kinds.foot_normals`). The Chamfer distance is
-        :meth:`score`'s."""
+        (:func:`~hapticsim.metrics.scorer_kinds.foot_normals`). The Chamfer distance is the one
+        :meth:`score` gives, its foot searches also started from the nearest of the other
+        surface's points (so it is never larger: beyond sharp edges the search from a point's
+        own ray alone may stop short of the foot)."""
         est = solid_arg(estimate, "estimate")
         taus = thresholds_arg(thresholds)
         points, weights, normals = self._surface(est, np.random.default_rng(_SURFACE_SEED), True)
@@ -191,9 +193,9 @@ class TruthScorer:
             points, weights = lattice
             return points, weights, (np.ascontiguousarray(solid.normals(points.T).T)
                                      if normals else None)  # fmt: skip
-        points, normals = solid.sample_surface(self.chamfer_samples, gen)
+        points, outward = solid.sample_surface(self.chamfer_samples, gen)
         return (np.ascontiguousarray(points.T), np.ones(self.chamfer_samples),
-                np.ascontiguousarray(normals.T))  # fmt: skip
+                np.ascontiguousarray(outward.T))  # fmt: skip
 
     def _chamfer(self, estimate: Solid) -> float:
         """Area-weighted mean distances between the two surfaces, averaged (SPEC §4) [m]."""

@@ -123,9 +123,9 @@ def test_surface_measures_match_an_independent_computation(kind: str) -> None:
     # points with exact foot points) against closest points on fine triangle meshes.
     # Estimates a few millimetres off, as after a few touches; "box" has sharp edges (eps 0.1),
     # where the foot-point search from a point's own ray alone stopped short by up to 2 mm.
-    # Measured (AMD znver5): F within 0.0053, normal consistency within 0.0077 (the mesh), Chamfer
-    # within 0.5 %; 93 s in all (the reference's fine meshes). The default run's bench test compares the
-    # bench's per-touch numbers with surface_score's.
+    # Measured (AMD znver5): F within 0.0053, normal consistency within 0.0077 (the mesh),
+    # Chamfer within 0.5 %; 93 s in all (the reference's fine meshes). The default run's bench
+    # test compares the bench's per-touch numbers with surface_score's.
     from hapticsim.data.objects import random_composite
     from hapticsim.geometry.mesh_solid import MeshSolid
 
