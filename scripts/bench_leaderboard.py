@@ -105,7 +105,8 @@ def _board(argv: list[str] | None) -> int:
     def cost(job) -> float:
         family, sensing = job.task.split("/")[:2]
         fitted = job.estimator != "env-nH"
-        return COST[family] * (2.0 if sensing == "vision" else 1.0) * (1.5 if fitted else 1.0)
+        scale = (2.0 if sensing == "vision" else 1.0) * (1.5 if fitted else 1.0)
+        return COST.get(family, 1.0) * scale
 
     rows = parallel_map(run_episode, flat, workers=args.workers, desc="leaderboard",
                         names=lambda j: j.label, unit="episode", scheduler=scheduler,
