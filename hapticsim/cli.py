@@ -229,7 +229,32 @@ def _explore_from_args(args: argparse.Namespace) -> dict:
         skin=args.skin,
         taxel_model=args.taxel_model,
         holes=args.holes,
+        object_dynamics=_dynamics_from_args(args),
+        force_limit=args.force_limit,
     )
+
+
+def _dynamics_from_args(args: argparse.Namespace) -> Any:
+    """``--object-dynamics`` and its options as an ObjectDynamics (SPEC §12)."""
+    from hapticsim.sim.dynamics import ObjectDynamics
+
+    given = {"--object-mass": args.object_mass, "--object-density": args.object_density,
+             "--clamp-stiffness": args.clamp_stiffness}  # fmt: skip
+    if args.object_dynamics == "fixed":
+        named = [k for k, v in given.items() if v is not None]
+        if named:
+            raise InvalidInputError(
+                f"{', '.join(named)} is for a free object (--object-dynamics resting or held)"
+            )
+        return "fixed"
+    if args.clamp_stiffness is not None and args.object_dynamics != "held":
+        raise InvalidInputError("--clamp-stiffness is for --object-dynamics held")
+    extra = {"mass": args.object_mass}
+    if args.object_density is not None:
+        extra["density"] = args.object_density
+    if args.clamp_stiffness is not None:
+        extra["clamp_stiffness"] = args.clamp_stiffness
+    return ObjectDynamics(kind=args.object_dynamics, **extra)
 
 
 def _explore_done(summary: dict) -> int:
@@ -400,6 +425,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="with --sensing tactile: hapticsim's own taxel model against the exact solid "
         "(default) or MuJoCo's <tactile> sensor",
     )  # fmt: skip
+    p.add_argument(
+        "--object-dynamics", choices=("fixed", "resting", "held"), default="fixed",
+        help="fixed: a static object (default); resting: a free object in a cradle under "
+        "gravity; held: a free object in a stiff clamp (SPEC §12)",
+    )  # fmt: skip
+    p.add_argument("--object-mass", type=float, default=None, metavar="KG",
+                   help="a free object's mass [kg] (default: from its density)")  # fmt: skip
+    p.add_argument("--object-density", type=float, default=None, metavar="KG/M3",
+                   help="a free object's density [kg/m^3] (default 500)")  # fmt: skip
+    p.add_argument("--clamp-stiffness", type=float, default=None, metavar="N/M",
+                   help="--object-dynamics held: the clamp's stiffness [N/m] (default 2000)")
+    p.add_argument("--force-limit", type=float, default=None, metavar="N",
+                   help="the largest normal force a fingertip presses with [N] (gentle "
+                   "exploration; default: no limit)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_explore)
 

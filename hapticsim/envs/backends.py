@@ -22,10 +22,12 @@ def make_backend(config: Any) -> TouchBackend:
             sensing=config.sensing, skin=config.skin,
         )  # fmt: skip
     from hapticsim.envs.mujoco_backend import MujocoBackend
+    from hapticsim.sim.scene import SceneConfig
 
+    scene = SceneConfig(object_dynamics=config.object_dynamics, force_limit=config.force_limit)
     return MujocoBackend(
         noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand,
-        sensing=config.sensing, skin=config.skin,
+        sensing=config.sensing, skin=config.skin, scene_config=scene,
     )  # fmt: skip
 
 

@@ -81,6 +81,15 @@ class HapticExploreConfig:
             (``hapticsim/HapticExploreTactile-v0`` adds the taxel images).
         skin: with tactile sensing, the skin: a preset (``"ideal"``, ``"vision"``,
             ``"capacitive"``) or a ``.toml`` skin file (stored as the loaded preset).
+        object_dynamics: the MuJoCo backend's object (SPEC §12): ``"fixed"`` (default),
+            ``"resting"`` or ``"held"``, or an :class:`~hapticsim.sim.dynamics.ObjectDynamics`
+            (stored as one); info's ``object_moved`` [m] and ``object_turned`` [deg] say how
+            far each touch moved it. The analytic backend has no physics: fixed only.
+        force_limit: the MuJoCo hand's force limit [N] (:class:`~hapticsim.sim.scene.SceneConfig`);
+            None: none. Not for the analytic backend.
+        displacement_penalty: subtracted from the reward per metre the touch moved the object's
+            centre (info's ``object_moved``), >= 0; 0 (default): none. 10 costs 0.01 per mm,
+            about a touch's typical drop of epsilon.
     """
 
     backend: str = "mujoco"
@@ -105,6 +114,9 @@ class HapticExploreConfig:
     height: int = 360
     sensing: str = "exact"
     skin: Any = "ideal"
+    object_dynamics: Any = "fixed"
+    force_limit: float | None = None
+    displacement_penalty: float = 0.0
 
     def __post_init__(self) -> None:
         size = self.camera_size
@@ -159,8 +171,23 @@ class HapticExploreConfig:
         if self.sensing not in SENSINGS:
             raise ChoiceError("sensing", self.sensing, SENSINGS)
         from hapticsim.perception.tactile import load_skin
+        from hapticsim.sim.dynamics import dynamics_arg
 
         object.__setattr__(self, "skin", load_skin(self.skin))
+        object.__setattr__(self, "object_dynamics", dynamics_arg(self.object_dynamics))
+        penalty = self.displacement_penalty
+        if isinstance(penalty, bool) or not isinstance(penalty, (int, float)) or not (
+            np.isfinite(penalty) and penalty >= 0.0
+        ):
+            raise InvalidInputError(
+                f"`displacement_penalty` must be a finite number >= 0 [1/m], got {penalty!r}"
+            )
+        if self.backend == "analytic" and (self.object_dynamics.free or self.force_limit
+                                           is not None or penalty > 0):  # fmt: skip
+            raise InvalidInputError(
+                "`object_dynamics`, `force_limit` and `displacement_penalty` need the MuJoCo "
+                "backend (the analytic one has no physics)"
+            )
 
 
 __all__ = ["REWARDS", "HapticExploreConfig"]

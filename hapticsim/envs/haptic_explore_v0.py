@@ -365,6 +365,7 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
         progress = self._progress_value(pts)
         reward = float(self._progress - progress)
+        reward -= self.config.displacement_penalty * result.object_moved
         self._progress = progress
         terminated = bool(
             self.config.target_epsilon is not None
@@ -471,6 +472,8 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             solid=self._update.solid,
             truth=self._truth,
             origin=self._origin.copy(),
+            object_moved=float(result.object_moved),
+            object_turned=float(result.object_turned),
         )
         if self.config.reward == "uncertainty":
             info["uncertainty"] = self._progress

@@ -144,7 +144,8 @@ class MujocoBackend(TouchBackend):
             prepared: unused (the hand's scene comes from its own cache).
 
         Returns:
-            the ground truth, `shape` itself.
+            the ground truth: `shape` itself, or a free object where it came to rest in its
+            cradle (SPEC §12).
 
         Raises:
             SimulationError: the object is too large or too far for the hand.
@@ -170,9 +171,9 @@ class MujocoBackend(TouchBackend):
         foot = scene.model.geom_pos[stand].copy()
         foot[2] = scene.model.geom_pos[stand][2] + scene.model.geom_size[stand][1] - 0.002
         self._support = Support("stand", foot, float(scene.model.geom_size[stand][0]))
-        self._truth = shape
+        self._truth = scene.truth  # a free object: where it rests before the first touch
         self._rng = rng
-        return shape
+        return scene.truth
 
     def touch(self, touch: Touch, origin: Array) -> TouchResult:
         """Execute one probe or stroke aimed at `origin` (3,) [m, world] with the hand.
@@ -184,10 +185,13 @@ class MujocoBackend(TouchBackend):
         start = time.perf_counter()
         ex = self._explorer
         assert ex is not None
+        if ex.lost is not None:  # a free object that tipped over or left: nothing to touch
+            return TouchResult.empty("failed", time.perf_counter() - start, ex.lost)
         aim, failed = self._approach(ex.rough.shape, touch, origin, start, "no rough surface")
         if aim is None:
             return failed  # type: ignore[return-value]
         before = len(ex.recorder)
+        pose = ex.sim.object_pose()
         message = ""
         try:
             if touch.is_probe or not self._stroke(touch, aim):
@@ -198,9 +202,16 @@ class MujocoBackend(TouchBackend):
         new = ex.recorder.arrays(before)  # this touch's contacts only
         k = len(ex.recorder) - before
         seconds = time.perf_counter() - start
+        moved = {}
+        if pose is not None:
+            from hapticsim.sim.dynamics import pose_change
+
+            shift, angle = pose_change(ex.sim.object_pose(), pose)
+            moved = {"object_moved": shift, "object_turned": angle}
         if k == 0:
             status = "failed" if message else "missed"
-            return TouchResult.empty(status, seconds, message or "no contact recorded")
+            return replace(TouchResult.empty(status, seconds, message or "no contact recorded"),
+                           **moved)  # fmt: skip
         pts_clean, nrm_clean = new["points_clean"], new["normals_clean"]
         pts, nrm = self._noisy(pts_clean, nrm_clean)
         tactile = {}
@@ -212,7 +223,7 @@ class MujocoBackend(TouchBackend):
         return TouchResult(
             points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,
             finger=new["finger"], force=new["force"], time=new["time"],
-            status="ok", seconds=seconds, message=message, **tactile,
+            status="ok", seconds=seconds, message=message, **tactile, **moved,
         )  # fmt: skip
 
     def _probe(self, touch: Touch, aim: Array) -> None:

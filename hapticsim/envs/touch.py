@@ -184,6 +184,9 @@ class TouchResult:
         points_exact: with tactile sensing, (k, 3) float, the true contacts [m] the estimates
             stand for (MuJoCo's, or the ray cast's); else None.
         normals_exact: the same for the normals.
+        object_moved: how far [m] the touch moved a free object's centre (SPEC §12; 0 for a
+            fixed object and the analytic backend).
+        object_turned: by what angle [deg] it turned the object.
 
     With tactile sensing ``points_clean``/``normals_clean`` are the contacts estimated from the
     taxels (before SPEC §5 noise) and ``force`` the skin's.
@@ -203,6 +206,8 @@ class TouchResult:
     sigma: Array | None = None
     points_exact: Array | None = None
     normals_exact: Array | None = None
+    object_moved: float = 0.0
+    object_turned: float = 0.0
 
     def __post_init__(self) -> None:
         if self.status not in TOUCH_STATUSES:

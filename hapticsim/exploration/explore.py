@@ -18,14 +18,16 @@ output directory:
   are the contacts estimated from the taxels (noise added on top only when asked),
   ``points_exact``/``normals_exact``/``force_exact`` MuJoCo's, ``sigma`` (n,) the estimate's
   per-coordinate std [m], ``sigma_normal`` (n,) its normal's [rad], ``area`` (n,) [m^2] and
-  ``taxels`` (n,) lit taxels;
+  ``taxels`` (n,) lit taxels; with a free object (``object_dynamics``, SPEC §12) ``object_pose``
+  (n, 7) its true position [m] and quaternion (w first) at each contact;
 - ``tactile.npz`` (tactile sensing, compressed): ``images`` (touches, pads, rows, cols) readings
   [Pa], ``depth`` the skin's depth [m], ``slip`` (..., 2) [m/s], ``finger`` (touches,),
   ``pad_position`` (touches, pads, 3) [m] and ``pad_rotation`` (touches, pads, 3, 3) of the pads'
   carriers, ``taxel_position``/``taxel_normal`` (pads, rows, cols, 3) and ``taxel_area`` in the
   carriers' frames, ``time`` (touches,) [s] and ``skin`` (the preset as JSON);
 - ``truth.json`` (a superquadric, SPEC §6, or a union, SPEC §10) or, for a mesh object,
-  ``truth.stl`` (world frame, metres);
+  ``truth.stl`` (world frame, metres): a free object where it rested before the first touch,
+  and ``truth_final.json``/``.stl`` where the run left it;
   ``fit.json`` (fit result), ``metrics.json`` (quality measures with their method, contact
   accuracy, the object and what the planner was given: ``vision``), ``report.png`` (truth,
   estimate, contacts with normals) and, with ``render=True``, ``scene.png`` (MuJoCo's
@@ -80,6 +82,8 @@ def explore(
     skin: Any = None,
     taxel_model: str = "hapticsim",
     holes: bool = False,
+    object_dynamics: Any = "fixed",
+    force_limit: float | None = None,
 ) -> dict[str, Any]:
     """Explore an object with the simulated hand, fit, score and write the results.
 
@@ -116,6 +120,14 @@ def explore(
             ``"mujoco"`` (MuJoCo's ``<tactile>`` sensor).
         holes: with ``method="multi"``, also fit a supertoroid and keep it where it explains
             the contacts better (:func:`hapticsim.fitting.fit`'s ``holes``).
+        object_dynamics: how the object is held (SPEC §12): ``"fixed"`` (default),
+            ``"resting"`` (free, in a cradle, under gravity) or ``"held"`` (a stiff clamp), or an
+            :class:`~hapticsim.sim.dynamics.ObjectDynamics` with its mass or density and clamp.
+            A free object's contacts carry its pose (``object_pose``), ``truth_final.json``
+            holds it where the run left it and ``metrics.json`` how far it moved
+            (``object_motion``).
+        force_limit: the largest normal force [N] a fingertip presses with (gentle
+            exploration; :class:`~hapticsim.sim.scene.SceneConfig`), None for none.
 
     Returns:
         A JSON-ready summary: the output files, contact count, quality measures, contact
@@ -150,7 +162,8 @@ def explore(
             f"sensing {sensing!r}"
         )
     scene = SceneConfig(hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
-                        taxel_model=taxel_model)  # fmt: skip
+                        taxel_model=taxel_model, object_dynamics=object_dynamics,
+                        force_limit=force_limit)  # fmt: skip
     trial = Trial(object=spec, explorer=strategy, count=count, noise=noise, estimator=method,
                   seed=seed, scene=scene, holes=holes)  # fmt: skip
     video_config = None if video is None else VideoConfig(format=video)
@@ -243,6 +256,7 @@ def _explore(
             "setup_seconds": record.fit.setup_seconds,
         },
         "simulation": _sim_stats(run),
+        **({} if record.motion is None else {"object_motion": record.motion}),
     }
     files = _write(out, record, report, picture, video_config, hooks.hand_trace)
     summary["files"] = {k: str(v) for k, v in files.items()}
@@ -308,6 +322,12 @@ def _write(
         "simulation": _sim_stats(run),
         "sensing": trial.scene.sensing,
     }
+    if record.motion is not None:  # a free object (SPEC §12): pose_drift at the top level
+        metrics["object_motion"] = {k: v for k, v in record.motion.items() if k != "pose_drift"}
+        if "pose_drift" in record.motion:
+            metrics["pose_drift"] = record.motion["pose_drift"]
+    if trial.scene.force_limit is not None:
+        metrics["force_limit"] = trial.scene.force_limit
     repair = getattr(record.truth, "repair", None)
     if repair is not None:  # a mesh object: what its loader mended (SPEC §10)
         metrics["mesh_repair"] = repair
@@ -317,6 +337,8 @@ def _write(
         metrics["contact_accuracy_exact"] = record.accuracy_exact
         metrics["tactile"] = _tactile_summary(run)
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")
+    if "object_pose" in a:
+        keys += ("object_pose",)
     if tactile:
         keys += ("points_exact", "normals_exact", "force_exact", "sigma", "sigma_normal", "area",
                  "taxels")  # fmt: skip
@@ -325,6 +347,9 @@ def _write(
     extra[FREE_SPACE_KEY] = record.free_space  # fingertip centres: free space for nML
     extra["sensing"] = np.array(trial.scene.sensing)
     files = {"report": ("report.png", report)}
+    if run.truth_final is not None:
+        name, data = truth_file_of(run.truth_final)
+        files["truth_final"] = (name.replace("truth", "truth_final"), data)
     if tactile:
         files["tactile"] = ("tactile.npz", _tactile_file(run, trial.scene.skin))
     files["hand"] = ("hand.npz", npz_bytes(hand_trace.arrays()))

@@ -105,7 +105,7 @@ class PolicyExplorer:
         from hapticsim.envs.policies import make_policy
         from hapticsim.sim.free_space import FreeSpaceTrace
         from hapticsim.sim.scene import SceneConfig
-        from hapticsim.sim.session import MIN_CONTACTS, Exploration
+        from hapticsim.sim.session import MIN_CONTACTS, UNREACHED, Exploration
 
         h = hooks or ExplorationHooks()
         budget = count if self.max_touches is None else self.max_touches
@@ -118,7 +118,9 @@ class PolicyExplorer:
             hand=config.hand, sensing=config.sensing, skin=config.skin,
         )  # fmt: skip
         backend = env.unwrapped.backend
-        backend.scene_config = replace(backend.scene_config, taxel_model=config.taxel_model)
+        backend.scene_config = replace(backend.scene_config, taxel_model=config.taxel_model,
+                                       object_dynamics=config.object_dynamics,
+                                       force_limit=config.force_limit)  # fmt: skip
         agent = make_policy(self.name, env, rng=policy_seed)
         obs, _ = env.reset(seed=env_seed, options={"shape": truth})
         agent.reset(policy_seed)
@@ -140,6 +142,9 @@ class PolicyExplorer:
             idle = idle + 1 if len(recorder) == before else 0
             if h.progress is not None:
                 h.progress(min(len(recorder), count))
+            if explorer.lost is not None:  # a free object tipped over or left its place
+                stop = explorer.lost
+                break
             if idle >= MAX_IDLE_TOUCHES:
                 stop = f"{MAX_IDLE_TOUCHES} touches in a row recorded nothing"
                 break
@@ -147,7 +152,7 @@ class PolicyExplorer:
         if len(recorder) < MIN_CONTACTS:
             raise SimulationError(
                 f"the {self.name!r} exploration gathered only {len(recorder)} contacts (at "
-                f"least {MIN_CONTACTS} needed): {stop or 'the hand could not reach the surface'}"
+                f"least {MIN_CONTACTS} needed): {stop or UNREACHED}"
             )
         return Exploration.of(truth, explorer, count, wall, stop, trace.points(), count=count)
 

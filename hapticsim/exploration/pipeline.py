@@ -68,6 +68,8 @@ class TrialRecord:
         accuracy_exact: with tactile sensing, MuJoCo's exact contacts' accuracy.
         fit_seconds: wall time of the estimate [s].
         seconds: wall time of the trial [s].
+        motion: a free object (SPEC §12): how it moved and what the estimate is against its
+            final pose (:func:`object_motion`); None for a fixed object.
     """
 
     trial: Trial
@@ -87,6 +89,7 @@ class TrialRecord:
     accuracy_exact: dict[str, Any] | None = None
     fit_seconds: float = 0.0
     seconds: float = 0.0
+    motion: dict[str, Any] | None = None
 
     def metrics(self) -> dict[str, Any]:
         """The estimate's quality measures (:func:`quality_metrics`)."""
@@ -149,6 +152,7 @@ def run_trial(
         run = explorer.explore(truth, trial.count, seeds.generator("sim"), trial.scene, h)
     except SimulationError as exc:
         raise SimulationError(f"{exc} [{reproduce_hint(trial)}]") from exc
+    truth = run.truth  # a free object: where it rested before the first touch (SPEC §12)
     a = run.arrays
     points, normals = add_noise(a["points_clean"], a["normals_clean"], trial.noise, truth.size,
                                 seeds.generator("noise"))  # fmt: skip
@@ -172,9 +176,61 @@ def run_trial(
         accuracy_checked(truth, a["points_exact"], a["normals_exact"])
         if trial.scene.sensing == "tactile" else None
     )  # fmt: skip
+    motion = None
+    if run.truth_final is not None:
+        motion = object_motion(run, estimate, result, seeds.rng("score"))
     return TrialRecord(trial, seeds, truth, run, points, normals, free_space, result, estimate,
                        info, quality, theta, eof, accuracy, accuracy_exact, fit_seconds,
-                       time.perf_counter() - start)  # fmt: skip
+                       time.perf_counter() - start, motion)  # fmt: skip
+
+
+def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, Any]:
+    """How a free object moved and what the estimate is against it (SPEC §12, ``metrics.json``'s
+    ``object_motion``): its dynamics and mass; ``moved`` (``position_m``, ``angle_deg`` of its
+    centre and attitude) at the last contact and at the end, from where it rested before the
+    first touch (the truth the quality measures score against: ``truth.json``); ``final_pose``,
+    the estimate's IoU and epsilon against the object where the run left it (a tracking fit's
+    estimate carried there by its last tracked pose); with a tracking fit, ``pose_drift``: its
+    last tracked pose against the truth's (:func:`~hapticsim.fitting.track.pose_drift`)."""
+    from hapticsim.fitting.track import pose_drift, true_poses
+    from hapticsim.metrics.score import score_checked
+    from hapticsim.sim.dynamics import pose_change
+
+    scene, sim = run.explorer.scene, run.explorer.sim
+    initial = sim.initial_object_pose
+    poses = run.arrays["object_pose"]
+    last = poses[-1] if len(poses) else initial
+    out: dict[str, Any] = {
+        **scene.config.object_dynamics.to_dict(),
+        "mass_kg": float(scene.model.body_mass[scene.object_body_id]),
+        "moved": {
+            "last_contact": _moved(pose_change(last, initial)),
+            "end": _moved(pose_change(sim.object_pose(), initial)),
+        },
+        "truth_initial": "the object at rest before the first touch (truth.json; the quality "
+        "measures)",
+        "truth_final": "the object where the exploration left it (truth_final.json)",
+    }  # fmt: skip
+    carried = estimate
+    tracked = getattr(result, "poses", None)
+    if tracked is not None:
+        truth = true_poses(poses, initial)
+        out["pose_drift"] = pose_drift(tracked[-1], truth[-1], run.truth.center)
+        rot = _quat_matrix(tracked[-1][3:])
+        carried = estimate.transformed(rot, tracked[-1][:3])
+    final = score_checked(carried, run.truth_final, rng)
+    out["final_pose"] = {"iou": final.iou, "epsilon": final.epsilon}
+    return out
+
+
+def _moved(change: tuple[float, float]) -> dict[str, float]:
+    return {"position_m": change[0], "angle_deg": change[1]}
+
+
+def _quat_matrix(quat: np.ndarray) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_quat([*quat[1:], quat[0]]).as_matrix()
 
 
 def _say(hooks: TrialHooks, text: str) -> None:
@@ -253,6 +309,15 @@ def reproduce_hint(trial: Trial) -> str:
     scene = trial.scene
     if scene.hand.name != "hapticsim":
         args += f" --hand {scene.hand.source if scene.hand.source is not None else scene.hand.name}"
+    dynamics = scene.object_dynamics
+    if dynamics.free:
+        args += f" --object-dynamics {dynamics.kind}"
+        args += (f" --object-mass {dynamics.mass:.9g}" if dynamics.mass is not None
+                 else f" --object-density {dynamics.density:.9g}")  # fmt: skip
+        if dynamics.kind == "held":
+            args += f" --clamp-stiffness {dynamics.clamp_stiffness:.9g}"
+    if scene.force_limit is not None:
+        args += f" --force-limit {scene.force_limit:.9g}"
     if scene.sensing == "tactile":
         args += f" --sensing tactile --skin {scene.skin.name}"
         if scene.taxel_model != "hapticsim":

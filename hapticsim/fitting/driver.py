@@ -29,6 +29,7 @@ from hapticsim.fitting.methods import (
     FIT_METHODS,
     HYBRID_METHODS,
     SOLID_METHODS,
+    TRACK_METHODS,
     uses_normals,
 )
 from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
@@ -153,7 +154,7 @@ def fit(
     if distance not in DISTANCES:
         raise ChoiceError("distance", distance, DISTANCES)
     ml = method == "nML"
-    multi = method == "multi"
+    multi = method in ("multi", "multi+track")
     if not ml and (options is not None or sigma is not None or sigma_normal is not None):
         raise InvalidInputError(
             f"`options`, `sigma` and `sigma_normal` are for method nML only, got method {method}"
@@ -192,6 +193,22 @@ def fit(
     if not spec and n_evals < 2:
         raise InvalidInputError(f'`budget` must be >= 2 with distance="{distance}", got {n_evals}')
 
+    if method in TRACK_METHODS:
+        from hapticsim.fitting.track import fit_tracked
+
+        if free_pts is not None or warm is not None:
+            raise InvalidInputError(
+                f"`free` and `initial` are world-frame hints, not for method {method} (the "
+                "object moved)"
+            )
+
+        def fit_shape(base: str, p: Any, n: Any) -> FitResult:
+            extra = {}
+            if base == "multi":
+                extra = {"parts": parts, "holes": holes, "noise": noise_level}
+            return fit(p, n, method=base, budget=n_evals, rng=gen, lam=weight, **extra)
+
+        return fit_tracked(method, pts, nrm, fit_shape, time.perf_counter(), lam=weight)
     setup = prepare(method)  # load (or compile) the kernels outside the fit's own time
     start = time.perf_counter()
     if multi:

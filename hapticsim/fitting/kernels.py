@@ -52,6 +52,8 @@ METHOD_PARTS: dict[str, tuple[str, ...]] = {
     "multi": ("eof-lm", "eof-ga", "ml-lm"),
     "gpis": (),  # numpy and scipy: no compiled kernel
     "supertoroid": (),
+    "nH+track": ("eof-lm", "eof-ga"),  # nH, then SciPy's least squares over the poses
+    "multi+track": ("eof-lm", "eof-ga", "ml-lm"),
 }
 
 _ready: set[str] = set()

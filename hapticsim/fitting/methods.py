@@ -14,7 +14,10 @@ hybrid search of nH on a maximum-likelihood objective (:mod:`hapticsim.fitting.m
 ``multi`` (points, normals): a union of 1..K superquadrics (:mod:`hapticsim.fitting.multi`,
 SPEC §10), and ``gpis`` (points, normals): the field's Gaussian-process implicit surface, a mesh
 (:mod:`hapticsim.fitting.gpis`, extra ``gpis``), and ``supertoroid`` (points, normals): a
-superquadric with a hole (:mod:`hapticsim.fitting.toroid`). The paper reproduction compares
+superquadric with a hole (:mod:`hapticsim.fitting.toroid`), and ``nH+track`` and ``multi+track``
+(points in recording order, normals): the shape of an object that moved during the exploration,
+fitted jointly with its pose at every contact (:mod:`hapticsim.fitting.track`, SPEC §12). The
+paper reproduction compares
 :data:`METHODS` only.
 """
 
@@ -22,14 +25,18 @@ from __future__ import annotations
 
 #: Method names, in the paper's order.
 METHODS: tuple[str, ...] = ("LS", "H", "nLS", "nH")
-#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML, multi, gpis and
-#: supertoroid.
-FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi", "gpis", "supertoroid")
+#: Every method :func:`~hapticsim.fitting.fit` accepts: the paper's, then nML, multi, gpis,
+#: supertoroid and the two that track a moving object's pose.
+FIT_METHODS: tuple[str, ...] = (*METHODS, "nML", "multi", "gpis", "supertoroid", "nH+track",
+                                "multi+track")  # fmt: skip
+#: Methods that fit the object's pose at every contact with its shape (SPEC §12).
+TRACK_METHODS: frozenset[str] = frozenset({"nH+track", "multi+track"})
 #: Methods whose objective uses the contact normals.
-NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis", "supertoroid"})
+NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis", "supertoroid",
+                                            *TRACK_METHODS})  # fmt: skip
 #: Methods whose estimate may be a solid other than one superquadric (a union, a mesh, a
-#: supertoroid): they have no Laplace uncertainty.
-SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis", "supertoroid"})
+#: supertoroid), or that track poses: they have no Laplace uncertainty.
+SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis", "supertoroid", *TRACK_METHODS})
 #: Methods with the genetic algorithm.
 HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH", "nML"})
 #: Default evaluation budget of every method (EOF evaluations, SPEC §3). With the compiled

@@ -90,6 +90,9 @@ class FitResult:
             optimum (:class:`~hapticsim.fitting.uncertainty.Uncertainty`), else None.
         model: ``gpis`` only: the Gaussian process's hyperparameters and the mesh's size
             (:meth:`~hapticsim.fitting.gpis.GpisFit.to_dict`), else None.
+        poses: ``nH+track`` and ``multi+track`` only (SPEC §12): (n, 7) float, the object
+            frame's position [m] and quaternion (w first) in the world at each contact (the
+            solid is in that frame), else None.
     """
 
     solid: Solid
@@ -105,6 +108,7 @@ class FitResult:
     setup_seconds: float = 0.0
     uncertainty: Any = None
     model: dict[str, Any] | None = None
+    poses: Any = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.solid, Solid):
@@ -159,6 +163,8 @@ class FitResult:
             extra["uncertainty"] = self.uncertainty.to_dict()
         if self.model is not None:
             extra["model"] = self.model
+        if self.poses is not None:
+            extra["poses"] = np.asarray(self.poses, dtype=np.float64).round(9).tolist()
         return {
             **one,
             "solid": self.solid.to_dict(),

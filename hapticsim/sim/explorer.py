@@ -137,6 +137,21 @@ class StripeSpec:
         object.__setattr__(self, "length", finite_float(self.length, "length", low=0.0))
 
 
+def force_limited(config: ExplorerConfig, limit: float | None) -> ExplorerConfig:
+    """`config` with its controllers pressing below a force limit [N] (None: as it is): probes
+    record at 60 % of the limit (at most their own threshold) and approach at a quarter of
+    the speed; contour following presses with half the limit (at most its own force) and
+    records between a quarter of it and the limit."""
+    if limit is None:
+        return config
+    probe, follow = config.probe, config.follow
+    probe = replace(probe, force_threshold=min(probe.force_threshold, 0.6 * limit),
+                    speed=0.25 * probe.speed)  # fmt: skip
+    low = min(follow.band[0], 0.25 * limit)
+    follow = replace(follow, force=min(follow.force, 0.5 * limit), band=(low, limit))
+    return replace(config, probe=probe, follow=follow)
+
+
 class Explorer:
     """Runs an exploration on a scene.
 
@@ -168,7 +183,8 @@ class Explorer:
         self.scene = scene
         self.rough = rough
         self.recorder = recorder
-        self.config = ExplorerConfig() if config is None else config
+        self.config = force_limited(ExplorerConfig() if config is None else config,
+                                    scene.config.force_limit)  # fmt: skip
         self.progress = progress
         self.on_pattern_end = on_pattern_end
         self.sim = Simulator(scene, tactile_rng=tactile_rng)
@@ -179,6 +195,10 @@ class Explorer:
         self.log: list[dict[str, object]] = []
         self._approach = np.array([0.0, 0.0, -1.0])
         self.misses = 0
+        #: why a free object can no longer be explored (it tipped over or left), else None.
+        self.lost: str | None = None
+        if scene.free:
+            recorder.pose_source = self.sim.object_pose
         self.home()
 
     # ------------------------------------------------------------------ palm motion
@@ -196,7 +216,8 @@ class Explorer:
     @property
     def out_of_time(self) -> bool:
         """True when the simulated-time budget is used up or too many probes in a row missed."""
-        return self.sim.time > self.config.max_sim_time or self.misses >= self.config.max_misses
+        return (self.sim.time > self.config.max_sim_time or self.misses >= self.config.max_misses
+                or self.lost is not None)  # fmt: skip
 
     @property
     def stop_reason(self) -> str | None:
@@ -204,6 +225,8 @@ class Explorer:
         if self.recorder.full:
             return None
         cfg = self.config
+        if self.lost is not None:
+            return self.lost
         if self.sim.time > cfg.max_sim_time:
             return f"the simulated-time budget of {cfg.max_sim_time:g} s was used up (max_sim_time)"
         if self.misses >= cfg.max_misses:
@@ -341,6 +364,8 @@ class Explorer:
             for t in tasks:
                 if not t.done:
                     t.update(sim, contacts)
+            if self.scene.free:
+                self.check_object()
             if self.recorder.full or sim.time > limit or self.out_of_time:
                 for t in tasks:
                     if not t.done:
@@ -366,6 +391,16 @@ class Explorer:
             self.progress(len(self.recorder))
         if self.on_pattern_end is not None:
             self.on_pattern_end(self)
+
+    def check_object(self) -> str | None:
+        """With a free object, whether it tipped over or left its place
+        (:func:`~hapticsim.sim.dynamics.lost_reason`); the reason is kept in :attr:`lost` and
+        ends the exploration."""
+        if self.scene.free and self.lost is None:
+            from hapticsim.sim.dynamics import lost_reason
+
+            self.lost = lost_reason(self.sim.object_pose(), self.sim.initial_object_pose)
+        return self.lost
 
     # ------------------------------------------------------------------ patterns
     def probe_patch(

@@ -38,6 +38,10 @@ class Recorder:
         self.sensed: list = []
         #: touches the skin did not feel (not recorded).
         self.unfelt = 0
+        #: a free object (SPEC §12): called at each kept contact for the object's pose (7,);
+        #: None for a fixed object.
+        self.pose_source = None
+        self.object_poses: list[Array] = []
 
     def __len__(self) -> int:
         return len(self.contacts)
@@ -69,6 +73,8 @@ class Recorder:
             raise InvalidInputError("a recorder holds exact or tactile contacts, not both")
         self.contacts.append(contact)
         self.pattern_of.append(int(pattern))
+        if self.pose_source is not None:
+            self.object_poses.append(self.pose_source())
         if sensed is not None:
             self.sensed.append(sensed)
         return True
@@ -94,7 +100,9 @@ class Recorder:
             the skin's; beside them ``points_exact``, ``normals_exact`` (MuJoCo's contacts),
             ``force_exact`` (MuJoCo's normal force [N]), ``sigma`` (n,) the estimate's
             per-coordinate std [m], ``sigma_normal`` (n,) its normal's [rad], ``area`` (n,)
-            [m^2] and ``taxels`` (n,) lit taxels.
+            [m^2] and ``taxels`` (n,) lit taxels. With a free object (SPEC §12)
+            ``object_pose`` (n, 7): its true position [m] and quaternion (w first) at each
+            contact.
         """
         out = {
             "points_clean": np.array([x.point_world for x in self.contacts[start:]],
@@ -107,6 +115,9 @@ class Recorder:
             "pattern": np.array(self.pattern_of[start:], dtype=np.int64),
             "dist": np.array([x.dist for x in self.contacts[start:]], dtype=np.float64),
         }  # fmt: skip
+        if self.pose_source is not None:
+            poses = np.array(self.object_poses[start:], dtype=np.float64)
+            out["object_pose"] = poses.reshape(-1, 7)
         if not self.sensed:
             return out
         est = [s.estimate for s in self.sensed[start:]]

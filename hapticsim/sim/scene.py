@@ -22,11 +22,12 @@ from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
 from hapticsim.constants import SENSINGS
-from hapticsim.errors import ChoiceError, SimulationError
+from hapticsim.errors import ChoiceError, InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.solid import Solid, solid_arg
 from hapticsim.perception.tactile import SkinPreset, load_skin
 from hapticsim.sim import mujoco_log  # noqa: F401  (MuJoCo warnings to logging, not a file)
+from hapticsim.sim.dynamics import ObjectDynamics, add_dynamics, dynamics_arg, settle
 from hapticsim.sim.hand import Hand, attach_hand, compile_scene, touching_geom_name
 from hapticsim.sim.hand_description import HandDescription, load_hand
 from hapticsim.sim.models import model_path
@@ -49,6 +50,8 @@ DEFAULT_MESH_RESOLUTION: int = 128
 DEFAULT_FRICTION: float = 0.2
 #: Physics time step [s].
 DEFAULT_TIMESTEP: float = 0.001
+#: No-slip solver passes of a scene with a free object (none for a fixed one).
+NOSLIP_ITERATIONS: int = 5
 #: Name of the object body, geom and mesh.
 OBJECT_NAME: str = "object"
 #: Height of the object's lowest point above the table top [m].
@@ -82,6 +85,14 @@ class SceneConfig:
         taxel_model: with tactile sensing, where taxel depths come from:
             ``"hapticsim"`` (its own model against the exact solid) or ``"mujoco"`` (MuJoCo's
             ``<tactile>`` sensor).
+        object_dynamics: how the object is held (SPEC §12): ``"fixed"`` (default, a static
+            body), ``"resting"`` or ``"held"``, or an
+            :class:`~hapticsim.sim.dynamics.ObjectDynamics` with its mass or density and clamp
+            (stored as one).
+        force_limit: the largest normal force [N] a fingertip may press with (gentle
+            exploration, SPEC §12): the probes record and the contour following presses below it
+            (:func:`~hapticsim.sim.explorer.force_limited`) and a finger pressing harder backs
+            off at once (:class:`~hapticsim.sim.simulator.Simulator`); None (default): no limit.
     """
 
     mesh_resolution: int = DEFAULT_MESH_RESOLUTION
@@ -92,9 +103,16 @@ class SceneConfig:
     sensing: str = "exact"
     skin: SkinPreset | str = "ideal"
     taxel_model: str = "hapticsim"
+    object_dynamics: ObjectDynamics | str = "fixed"
+    force_limit: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "hand", load_hand(self.hand))
+        object.__setattr__(self, "object_dynamics", dynamics_arg(self.object_dynamics))
+        limit = self.force_limit
+        if limit is not None and (isinstance(limit, bool) or not isinstance(limit, (int, float))
+                                  or not 0.0 < limit <= 10.0):  # fmt: skip
+            raise InvalidInputError(f"`force_limit` must be a force in (0, 10] N, got {limit!r}")
         if self.sensing not in SENSINGS:
             raise ChoiceError("sensing", self.sensing, SENSINGS)
         object.__setattr__(self, "skin", load_skin(self.skin))
@@ -123,6 +141,8 @@ class Scene:
         collision_method: how the object's collision geometry was made.
         pads: with tactile sensing, every finger's pad: (carrier kind, carrier id, layout,
             reach) (:func:`hapticsim.sim.tactile.pad_layouts`); else empty.
+        placed: a free object (SPEC §12): `truth` as it was placed, before it settled (`truth`
+            is the object at rest before the first touch); None for a fixed object.
     """
 
     model: mujoco.MjModel
@@ -136,6 +156,12 @@ class Scene:
     object_geom_ids: tuple[int, ...] = ()
     collision_method: str = ""
     pads: tuple = ()
+    placed: Solid | None = None
+
+    @property
+    def free(self) -> bool:
+        """True when the object can move (:class:`~hapticsim.sim.dynamics.ObjectDynamics`)."""
+        return self.config.object_dynamics.free
 
     def __post_init__(self) -> None:
         if not self.object_geom_ids:
@@ -240,6 +266,14 @@ def _compile(
             friction=[config.friction, 0.005, 0.0001],
             rgba=[0.35, 0.55, 0.85, 1.0],
         )
+    dynamics = config.object_dynamics
+    if dynamics.free and primitive is None:
+        add_dynamics(spec, body, truth, dynamics, collision.body_position,
+                     collision.body_rotation, collision.vertices_world, layout.foot)  # fmt: skip
+        # MuJoCo's soft friction lets a loaded contact creep (a resting 400 g cube turned 1
+        # degree a second under 0.03 N m, half the torque its friction holds); the no-slip
+        # solver's passes stop that (0.02 degrees).
+        spec.option.noslip_iterations = NOSLIP_ITERATIONS
     spec.worldbody.add_geom(
         name=STAND_NAME,
         type=mujoco.mjtGeom.mjGEOM_CYLINDER,
@@ -259,8 +293,27 @@ def _compile(
         name=CAMERA_NAME, pos=layout.eye.tolist(), xyaxes=layout.xyaxes.tolist(), fovy=45.0
     )
     if config.sensing == "tactile":
-        return _compile_tactile(spec, truth, layout, config, collision), collision
-    return _scene(compile_scene(spec), truth, layout, config, collision), collision
+        scene = _compile_tactile(spec, truth, layout, config, collision)
+    else:
+        scene = _scene(compile_scene(spec), truth, layout, config, collision)
+    if dynamics.free and primitive is None:
+        scene = _settled(scene)
+    return scene, collision
+
+
+def _settled(scene: Scene) -> Scene:
+    """A free object's scene with the object at rest (:func:`~hapticsim.sim.dynamics.settle`):
+    its model's reference pose and its truth where it came to rest."""
+    from hapticsim.sim.dynamics import object_pose, relative_motion
+
+    model, hand = scene.model, scene.hand
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    placed = object_pose(model, data, scene.object_body_id)
+    rest = settle(model, scene.object_body_id, hand.palm_qpos_adr, hand.mocap_id,
+                  scene.config.object_dynamics.kind)  # fmt: skip
+    rotation, translation = relative_motion(rest, placed)
+    return replace(scene, truth=scene.truth.transformed(rotation, translation), placed=scene.truth)
 
 
 def _compile_tactile(
@@ -353,7 +406,7 @@ def _config_key(config: SceneConfig) -> tuple[object, ...]:
     w = config.workspace
     return (config.mesh_resolution, config.friction, config.timestep, w.base_world.tobytes(),
             w.reach, w.max_object_radius, w.clearance, config.hand.key, config.sensing,
-            repr(config.skin), config.taxel_model)  # fmt: skip
+            repr(config.skin), config.taxel_model, repr(config.object_dynamics))  # fmt: skip
 
 
 class SceneCache:
@@ -388,19 +441,24 @@ class SceneCache:
         config = SceneConfig() if config is None else config
         key = (truth.shape_key(), _config_key(config))
         entry = self._entries.get(key)
-        if entry is None:
-            self.misses += 1
-            entry = _compile(truth, config)
-            self._entries[key] = entry
-            if len(self._entries) > self.capacity:
-                self._entries.popitem(last=False)
-            return entry[0]
-        self.hits += 1
+        if entry is not None:
+            scene, collision = entry
+            placed = scene.truth if scene.placed is None else scene.placed
+            if _same_pose(placed, truth):  # equal keys and poses: the same solid
+                self.hits += 1
+                self._entries.move_to_end(key)
+                return scene
+            if not scene.free:  # a free object's cradle and resting pose depend on its pose
+                self.hits += 1
+                self._entries.move_to_end(key)
+                return _moved(scene, collision, truth)
+        self.misses += 1
+        entry = _compile(truth, config)
+        self._entries[key] = entry
         self._entries.move_to_end(key)
-        scene, collision = entry
-        if _same_pose(scene.truth, truth):  # equal keys and poses: the same solid
-            return scene
-        return _moved(scene, collision, truth)
+        if len(self._entries) > self.capacity:
+            self._entries.popitem(last=False)
+        return entry[0]
 
     def clear(self) -> None:
         """Drop every cached scene."""

@@ -27,6 +27,8 @@ from hapticsim.sim.scene import SceneConfig, build_scene
 from hapticsim.sim.strategies import get_strategy
 from hapticsim.sim.video import ExplorationVideo
 
+#: Why an exploration without a better reason gathered too few contacts.
+UNREACHED: str = "the hand could not reach the object's surface"
 #: Default number of contacts (paper IV).
 DEFAULT_COUNT: int = DEFAULT_CONTACTS
 
@@ -53,6 +55,8 @@ class Exploration:
         tactile: with tactile sensing, every pad's reading at each contact
             (:meth:`Recorder.tactile_arrays`), else an empty dict.
         unfelt: touches the skin did not feel (tactile sensing; not recorded).
+        truth_final: a free object (SPEC §12) where the exploration left it (`truth` is where it
+            rested before the first touch); None for a fixed object.
     """
 
     truth: Solid
@@ -69,6 +73,7 @@ class Exploration:
     free_space: np.ndarray | None = None
     tactile: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     unfelt: int = 0
+    truth_final: Solid | None = None
 
     @classmethod
     def of(
@@ -79,6 +84,13 @@ class Exploration:
         `count` contacts (default: all)."""
         recorder = explorer.recorder
         keep = slice(0, count)
+        final = None
+        if explorer.scene.free:  # the object at rest before the first touch, and at the end
+            from hapticsim.sim.dynamics import relative_motion
+
+            truth = explorer.scene.truth
+            sim = explorer.sim
+            final = truth.transformed(*relative_motion(sim.object_pose(), sim.initial_object_pose))
         return cls(
             truth=truth,
             rough=explorer.rough,
@@ -94,6 +106,7 @@ class Exploration:
             free_space=free_space,
             tactile={k: v[keep] for k, v in recorder.tactile_arrays().items()},
             unfelt=recorder.unfelt,
+            truth_final=final,
         )
 
     @property
@@ -176,7 +189,7 @@ def run_exploration(
     if len(recorder) < MIN_CONTACTS:
         raise SimulationError(
             f"the {strategy!r} exploration gathered only {len(recorder)} contacts (at least "
-            f"{MIN_CONTACTS} needed): the hand could not reach the object's surface"
+            f"{MIN_CONTACTS} needed): {explorer.lost or UNREACHED}"
         )
     return Exploration.of(truth, explorer, count, wall, explorer.stop_reason, trace.points())
 

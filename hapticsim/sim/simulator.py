@@ -45,6 +45,12 @@ _BAD_STATE = tuple(
 )
 
 
+#: Under a force limit: how long after a touch [s] a fingertip approaches the surface it
+#: touched slowly, and its largest step toward it per control tick [m] (25 mm/s at 4 ms).
+GENTLE_HOLD: float = 0.1
+GENTLE_STEP: float = 1e-4
+
+
 @dataclass(frozen=True)
 class ServoConfig:
     """Gains and limits of the control loop.
@@ -139,6 +145,11 @@ class Simulator:
             rng = np.random.default_rng(0) if tactile_rng is None else tactile_rng
             self.tactile = TactileHand(scene, rng)
             self._skin_force = self.tactile.force_coefficients
+        #: a free object's pose (7,) at the last reset (SPEC §12), else None.
+        self.initial_object_pose = None
+        #: the scene's force limit [N] (None: none): a fingertip pressing harder backs off.
+        self._force_limit = scene.config.force_limit
+        self._touched: list[tuple[Array, float] | None] = [None] * n
 
     # ------------------------------------------------------------------ state
     @property
@@ -174,6 +185,8 @@ class Simulator:
         mujoco.mj_resetData(self.model, self.data)
         self.steps = 0
         self.place(palm_world, palm_rot_world, postures)
+        if self.scene.free:
+            self.initial_object_pose = self.object_pose()
         self._contacts = fingertip_contacts(
             self.model, self.data, self.hand, self.scene.object_geom_ids, self._skin_force
         )
@@ -263,6 +276,15 @@ class Simulator:
          self.steps) = saved.commands  # fmt: skip
         mujoco.mj_forward(self.model, self.data)
         self._contacts_stale = True
+
+    def object_pose(self) -> Array | None:
+        """A free object's pose now (7,: position [m], quaternion w first; SPEC §12), None for a
+        fixed object."""
+        if not self.scene.free:
+            return None
+        from hapticsim.sim.dynamics import object_pose
+
+        return object_pose(self.model, self.data, self.scene.object_body_id)
 
     def palm_pose(self) -> tuple[Array, Array]:
         """Actual palm position (3,) [m] and rotation (3, 3), world frame."""
@@ -367,12 +389,35 @@ class Simulator:
                 ctrl[f.actuator_ids] = self._posture[f.index]
                 continue
             error = target - site_xpos[f.site_id]
+            if self._force_limit is not None:
+                error = self._limit_force(f.index, error)
             length = norm(error)
             if length > servo.max_tip_error:
                 error *= servo.max_tip_error / length
             jac = hand.tip_jacobian(d, f.index)
             q = qpos[f.qpos_adr] + dls_step(jac, error, servo.damping)
             ctrl[f.actuator_ids] = np.minimum(np.maximum(q, f.ctrl_low), f.ctrl_high)
+
+    def _limit_force(self, finger: int, error: Array) -> Array:
+        """The tip's step under a force limit. A fingertip pressing harder than the limit (in
+        the last tick's contacts) steps back along the contact's outward normal instead (0.5
+        mm per tick at twice the limit); out of contact, for :data:`GENTLE_HOLD` s after a
+        touch, its step toward the surface it touched is at most :data:`GENTLE_STEP` (a finger
+        that strikes again at full speed after each back-off chatters at several times the
+        limit: 1-1.5 N at a limit of 0.3 N on a cube's edge)."""
+        contact = self.contacts.tips[finger]
+        if contact is not None and contact.force > 0.0:
+            self._touched[finger] = (contact.normal_world, self.time + GENTLE_HOLD)
+            if contact.force > self._force_limit:
+                excess = min(1.0, contact.force / self._force_limit - 1.0)
+                return contact.normal_world * (5e-4 * excess)
+            return error
+        touched = self._touched[finger]
+        if touched is not None and self.time < touched[1]:
+            inward = -float(np.dot(error, touched[0]))
+            if inward > GENTLE_STEP:
+                error = error + touched[0] * (inward - GENTLE_STEP)
+        return error
 
     def _check_stable(self) -> None:
         # MuJoCo's own checks (mj_checkPos/Vel/Acc) catch non-finite and huge values, count a
@@ -388,6 +433,44 @@ class Simulator:
                 + "); try a smaller timestep or a gentler exploration"
             )
 
+    def _link_push(self) -> tuple[Array, float] | None:
+        """The object's push on the hand's parts other than the fingertips: the force-weighted
+        mean outward normal (3,) and the total normal force [N], None without such contacts."""
+        d = self.data
+        ncon = int(d.ncon)
+        if ncon == 0:
+            return None
+        objects, tips = set(self.scene.object_geom_ids), self.hand.tip_finger_of_geom
+        hand = self.hand.hand_geom_set
+        total, direction = 0.0, np.zeros(3)
+        force6 = np.zeros(6)
+        for i, (g0, g1) in enumerate(d.contact.geom[:ncon].tolist()):
+            first = g0 in objects
+            other = g1 if first else g0
+            if not (first or g1 in objects) or other not in hand or other in tips:
+                continue
+            if d.contact.efc_address[i] < 0:
+                continue
+            mujoco.mj_contactForce(self.model, d, i, force6)
+            normal = d.contact.frame[i, :3] if first else -d.contact.frame[i, :3]
+            total += max(float(force6[0]), 0.0)
+            direction += max(float(force6[0]), 0.0) * normal
+        if total <= 0.0:
+            return None
+        return direction / max(norm(direction), 1e-12), total
+
+    def _palm_back_off(self) -> bool:
+        """Under a force limit: when the hand's other parts push the object harder than the
+        limit, the palm (its mocap) steps 0.5 mm back along the push instead of on to its goal;
+        True when it did."""
+        push = self._link_push()
+        if push is None or push[1] <= self._force_limit:
+            return False
+        i = self.hand.mocap_id
+        self.data.mocap_pos[i] = self.data.mocap_pos[i] + 5e-4 * push[0]
+        self._palm_reached = False
+        return True
+
     def tick(self, read: bool = True) -> ContactState | None:
         """One control tick (see module docstring).
 
@@ -399,7 +482,8 @@ class Simulator:
         Returns:
             the contacts after the tick, None without `read`.
         """
-        self._advance_mocap()
+        if self._force_limit is None or not self._palm_back_off():
+            self._advance_mocap()
         self._servo_fingers()
         mujoco.mj_step(self.model, self.data, nstep=self.servo.control_steps)
         self.steps += self.servo.control_steps

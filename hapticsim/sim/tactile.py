@@ -320,6 +320,14 @@ class TactileHand:
         radii = [p.layout.radius or f.tip_radius for p, f in zip(pads, scene.hand.fingers,
                                                                   strict=True)]  # fmt: skip
         self.force_coefficients = np.pi * self.skin.skin.stiffness * np.asarray(radii)
+        #: a free object's pose at rest (the scene's truth; SPEC §12), else None.
+        self._rest_pose = None
+        if scene.free:
+            from hapticsim.sim.dynamics import object_pose
+
+            data = mujoco.MjData(self.model)
+            mujoco.mj_forward(self.model, data)
+            self._rest_pose = object_pose(self.model, data, scene.object_body_id)
         self._vel = np.zeros(6)
 
     @property
@@ -347,6 +355,7 @@ class TactileHand:
         positions = np.zeros((n, 3))
         truth = self.scene.truth
         center, bound = np.asarray(truth.center), float(truth.bounding_radius)
+        moved = self._object_motion(data)
         for k, pad in enumerate(self.pads):
             rot, t = self.pad_pose(data, pad)
             rotations[k], positions[k] = rot, t
@@ -357,21 +366,33 @@ class TactileHand:
                 block = data.sensordata[pad.sensor_adr : pad.sensor_adr + count]
                 depth[k] = np.asarray(block).reshape(rows, cols)
             else:
-                if np.linalg.norm(t - center) > bound + pad.reach + pad.layout.pitch * max(
+                rot_o, t_o = rot, t  # the pad in the frame of the object at rest
+                if moved is not None:
+                    rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
+                if np.linalg.norm(t_o - center) > bound + pad.reach + pad.layout.pitch * max(
                     rows, cols
                 ):
                     continue  # nowhere near the object
-                depth[k] = taxel_depths(truth, world, nrm @ rot.T, pad.reach)
+                depth[k] = taxel_depths(truth, pos @ rot_o.T + t_o, nrm @ rot_o.T, pad.reach)
             if np.any(depth[k] > 0):
                 slip[k] = self._slip(data, pad, rot, world, nrm @ rot.T, depth[k] > 0)
         pressure = self.skin.skin.pressure(depth)
         readings = self.skin.sensor.apply(pressure, self.pattern, self.rng)
         return TactileReading(depth, readings, slip, positions, rotations, float(data.time))
 
+    def _object_motion(self, data: mujoco.MjData) -> tuple[Array, Array] | None:
+        """A free object's rigid motion from rest to now (rotation, translation), else None."""
+        if self._rest_pose is None:
+            return None
+        from hapticsim.sim.dynamics import object_pose, relative_motion
+
+        now = object_pose(self.model, data, self.scene.object_body_id)
+        return relative_motion(now, self._rest_pose)
+
     def _slip(self, data: mujoco.MjData, pad: Pad, rot: Array, world: Array, normals: Array,
               touching: NDArray[np.bool_]) -> Array:  # fmt: skip
         """Tangential velocities (rows, cols, 2) of the touching taxels in the pad's (u, v)
-        axes [m/s] (the object is static)."""
+        axes [m/s] (relative to the world: a moving object's own speed is not taken off)."""
         obj = mujoco.mjtObj.mjOBJ_GEOM if pad.carrier == "geom" else mujoco.mjtObj.mjOBJ_SITE
         mujoco.mj_objectVelocity(self.model, data, obj, pad.carrier_id, self._vel, 0)
         omega, v0 = self._vel[:3], self._vel[3:]

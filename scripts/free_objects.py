@@ -1,0 +1,208 @@
+"""Objects that move (SPEC §12): how far the hand moves a free object, and whether the tracking
+fit recovers its shape: the tables of docs/objects/moving/README.md.
+
+    python scripts/free_objects.py --out docs/objects/moving/free_objects.json   # ~25 min, 2 cores
+    python scripts/free_objects.py --family dev --conditions resting resting@0.3   # tuning set
+
+Families (``--family``; the tracker's motion prior and the force-limit rule were tuned on
+``dev`` only):
+
+- ``dev``: random superquadrics, object seeds 1000-1005, 100 g each (the tuning set);
+- ``bodies``: the paper's four bodies at the default density (500 kg/m^3: 107-180 g);
+- ``random``: random superquadrics, object seeds 0-9, each of a mass drawn uniformly in
+  50-500 g (seed 7 of the masses' own stream);
+- ``composites``: random composites (object seeds 200-207, the default density).
+
+Conditions (``--conditions``): ``fixed`` (the static object: the reference), ``resting`` and
+``held`` (free, SPEC §12), each optionally ``@F`` with a force limit of F newtons
+(``resting@0.3``). Every run: the built-in hand, exact sensing, no sensor noise, 150 contacts
+of the strategy (``--strategies``: ``paper``, and the ``uncertainty`` policy), seed 0; on the same
+contacts the naive fit (nH of the world-frame contacts) and the tracking fit (nH+track), both
+scored against the object at rest before the first touch (the tracking fit's shape is in that
+frame), the naive fit also against the object where the run left it. Prints JSON (every run,
+and per family, strategy and condition the medians); with ``--markdown`` the tables on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from multiprocessing import Pool
+from typing import Any
+
+import numpy as np
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+FAMILIES = ("dev", "bodies", "random", "composites")
+BODIES = ("tapered_box", "cube", "cylinder", "ellipsoid")
+
+
+def _objects(family: str) -> list[tuple[str, Any, float | None]]:
+    """(label, truth, mass [kg] or None for the default density) of a family."""
+    from hapticsim.data import get_body
+    from hapticsim.data.objects import ObjectSpec, random_composite
+
+    if family == "bodies":
+        return [(name, get_body(name), None) for name in BODIES]
+    if family == "composites":
+        return [(f"composite/{s}", random_composite(s), None) for s in range(200, 208)]
+    if family == "dev":
+        return [(f"random/{s}", ObjectSpec("random").resolve(np.random.default_rng(s)), 0.1)
+                for s in range(1000, 1006)]  # fmt: skip
+    masses = np.random.default_rng(7).uniform(0.05, 0.5, size=10)
+    return [(f"random/{s}", ObjectSpec("random").resolve(np.random.default_rng(s)), float(m))
+            for s, m in zip(range(10), masses, strict=True)]  # fmt: skip
+
+
+def _condition(text: str) -> tuple[str, float | None]:
+    kind, _, limit = text.partition("@")
+    return kind, (float(limit) if limit else None)
+
+
+def run_one(job: tuple[str, str, Any, float | None, str, str]) -> dict[str, Any]:
+    """One exploration and its two fits."""
+    from hapticsim.errors import HapticsimError
+    from hapticsim.exploration.pipeline import run_trial
+    from hapticsim.exploration.trial import Trial
+    from hapticsim.fitting import fit
+    from hapticsim.metrics.score import score
+    from hapticsim.sim.dynamics import ObjectDynamics
+    from hapticsim.sim.scene import SceneConfig
+
+    family, label, truth, mass, strategy, condition = job
+    kind, limit = _condition(condition)
+    dynamics = ObjectDynamics(kind, mass=mass if kind != "fixed" else None)
+    scene = SceneConfig(object_dynamics=dynamics, force_limit=limit)
+    estimator = "nH" if kind == "fixed" else "nH+track"
+    row: dict[str, Any] = {"family": family, "object": label, "strategy": strategy,
+                           "condition": condition, "mass_kg": mass}  # fmt: skip
+    start = time.perf_counter()
+    try:
+        record = run_trial(Trial(truth, strategy, 150, estimator=estimator, seed=0, scene=scene))
+    except HapticsimError as exc:
+        return {**row, "error": str(exc)}
+    run = record.exploration
+    row.update(contacts=run.count, stop_reason=run.stop_reason,
+               explore_seconds=run.wall_time, sim_time=run.sim_time,
+               force_p99=float(np.percentile(run.arrays["force"], 99)))  # fmt: skip
+    if kind == "fixed":
+        row.update(iou=record.quality.iou, epsilon=record.quality.epsilon,
+                   fit_seconds=record.fit_seconds)  # fmt: skip
+        return row | {"seconds": time.perf_counter() - start}
+    naive = fit(record.points, record.normals, method="nH", rng=record.seeds.rng("fit"))
+    naive_rest = score(naive.solid, record.truth, 0)
+    naive_final = score(naive.solid, run.truth_final, 0)
+    motion = record.motion
+    row.update(
+        mass_kg=motion["mass_kg"],
+        moved_mm=1000 * motion["moved"]["last_contact"]["position_m"],
+        turned_deg=motion["moved"]["last_contact"]["angle_deg"],
+        naive_iou=naive_rest.iou, naive_iou_final=naive_final.iou,
+        track_iou=record.quality.iou, track_epsilon=record.quality.epsilon,
+        drift_mm=1000 * motion["pose_drift"]["position_m"],
+        drift_deg=motion["pose_drift"]["angle_deg"], fit_seconds=record.fit_seconds,
+    )  # fmt: skip
+    return row | {"seconds": time.perf_counter() - start}
+
+
+def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Medians per (family, strategy, condition), with the fixed run's IoU of the same objects."""
+    out = []
+    fixed = {(r["family"], r["object"], r["strategy"]): r.get("iou") for r in rows
+             if r["condition"] == "fixed" and "error" not in r}  # fmt: skip
+    groups = sorted({(r["family"], r["strategy"], r["condition"]) for r in rows})
+    for family, strategy, condition in groups:
+        group = [r for r in rows if (r["family"], r["strategy"], r["condition"])
+                 == (family, strategy, condition)]  # fmt: skip
+        ok = [r for r in group if "error" not in r]
+        entry: dict[str, Any] = {"family": family, "strategy": strategy, "condition": condition,
+                                 "runs": len(group), "failed": len(group) - len(ok),
+                                 "complete": sum(r["contacts"] >= 150 for r in ok)}  # fmt: skip
+
+        def med(key: str, ok: list = ok) -> float | None:
+            return float(np.median([r[key] for r in ok])) if ok else None
+
+        if condition == "fixed":
+            entry.update(iou=med("iou"), explore_seconds=med("explore_seconds"))
+        elif ok:
+            base = [fixed.get((family, r["object"], strategy)) for r in ok]
+            pairs = [(r, b) for r, b in zip(ok, base, strict=True) if b is not None]
+            entry.update(
+                moved_mm=med("moved_mm"), turned_deg=med("turned_deg"), naive_iou=med("naive_iou"),
+                track_iou=med("track_iou"), naive_iou_final=med("naive_iou_final"),
+                drift_mm=med("drift_mm"), drift_deg=med("drift_deg"),
+                explore_seconds=med("explore_seconds"),
+                naive_drop=float(np.median([b - r["naive_iou"] for r, b in pairs]))
+                if pairs else None,
+                track_drop=float(np.median([b - r["track_iou"] for r, b in pairs]))
+                if pairs else None,
+            )  # fmt: skip
+        out.append(entry)
+    return out
+
+
+def markdown(summary: list[dict[str, Any]]) -> str:
+    """The summary as a Markdown table."""
+    head = ("| family | strategy | condition | runs (complete) | moved mm | turned deg | naive IoU "
+            "| track IoU | drop naive / track | drift mm / deg | explore s |")  # fmt: skip
+    lines = [head, "|" + "---|" * 11]
+    fmt = lambda v, p=3: "–" if v is None else f"{v:.{p}f}"  # noqa: E731
+    for e in summary:
+        if e["condition"] == "fixed":
+            lines.append(f"| {e['family']} | {e['strategy']} | fixed | {e['runs']} "
+                         f"({e['complete']}) | 0 | 0 | {fmt(e.get('iou'))} | – | – | – | "
+                         f"{fmt(e.get('explore_seconds'), 1)} |")  # fmt: skip
+            continue
+        lines.append(
+            f"| {e['family']} | {e['strategy']} | {e['condition']} | {e['runs']} ({e['complete']})"
+            f" | {fmt(e.get('moved_mm'), 2)} | {fmt(e.get('turned_deg'), 2)} | "
+            f"{fmt(e.get('naive_iou'))} | {fmt(e.get('track_iou'))} | "
+            f"{fmt(e.get('naive_drop'))} / {fmt(e.get('track_drop'))} | "
+            f"{fmt(e.get('drift_mm'), 2)} / {fmt(e.get('drift_deg'), 2)} | "
+            f"{fmt(e.get('explore_seconds'), 1)} |"
+        )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--family", nargs="+", default=["bodies", "random", "composites"],
+                        choices=FAMILIES)  # fmt: skip
+    parser.add_argument("--strategies", nargs="+", default=["paper", "uncertainty"])
+    parser.add_argument("--conditions", nargs="+",
+                        default=["fixed", "resting", "resting@0.3", "held", "held@0.3"])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", default=None, help="also write the JSON here")
+    parser.add_argument("--markdown", action="store_true")
+    args = parser.parse_args()
+    jobs = [(family, label, truth, mass, strategy, condition)
+            for family in args.family for label, truth, mass in _objects(family)
+            for strategy in args.strategies for condition in args.conditions]  # fmt: skip
+    start = time.perf_counter()
+    rows = []
+    with Pool(args.workers) as pool:
+        for k, row in enumerate(pool.imap_unordered(run_one, jobs), 1):
+            rows.append(row)
+            result = row.get("error") or row.get("track_iou", row.get("iou"))
+            sys.stderr.write(f"[{k}/{len(jobs)}] {row['family']} {row['object']} "
+                             f"{row['strategy']} {row['condition']}: {result}\n")  # fmt: skip
+    summary = summarise(rows)
+    order = sorted(rows, key=lambda r: (r["family"], r["object"], r["strategy"], r["condition"]))
+    out = {"command": " ".join(sys.argv), "seconds": time.perf_counter() - start,
+           "summary": summary, "runs": order}  # fmt: skip
+    text = json.dumps(out, indent=1, default=float)
+    if args.out:
+        os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
+        with open(args.out, "w") as f:
+            f.write(text + "\n")
+    print(text)
+    if args.markdown:
+        sys.stderr.write(markdown(summary) + "\n")
+
+
+if __name__ == "__main__":
+    main()
