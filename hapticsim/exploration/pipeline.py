@@ -193,6 +193,7 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     estimate carried there by its last tracked pose); with a tracking fit, ``pose_drift``: its
     last tracked pose against the truth's (:func:`~hapticsim.fitting.track.pose_drift`)."""
     from hapticsim.fitting.track import pose_drift, true_poses
+    from hapticsim.geometry.rotations import quaternion_to_matrix
     from hapticsim.metrics.score import score_checked
     from hapticsim.sim.dynamics import pose_change
 
@@ -216,7 +217,7 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     if tracked is not None:
         truth = true_poses(poses, initial)
         out["pose_drift"] = pose_drift(tracked[-1], truth[-1], run.truth.center)
-        rot = _quat_matrix(tracked[-1][3:])
+        rot = quaternion_to_matrix(tracked[-1][3:])
         carried = estimate.transformed(rot, tracked[-1][:3])
     final = score_checked(carried, run.truth_final, rng)
     out["final_pose"] = {"iou": final.iou, "epsilon": final.epsilon}
@@ -227,10 +228,7 @@ def _moved(change: tuple[float, float]) -> dict[str, float]:
     return {"position_m": change[0], "angle_deg": change[1]}
 
 
-def _quat_matrix(quat: np.ndarray) -> np.ndarray:
-    from scipy.spatial.transform import Rotation
 
-    return Rotation.from_quat([*quat[1:], quat[0]]).as_matrix()
 
 
 def _say(hooks: TrialHooks, text: str) -> None:

@@ -197,6 +197,7 @@ class Explorer:
         self.misses = 0
         #: why a free object can no longer be explored (it tipped over or left), else None.
         self.lost: str | None = None
+        self._watch = None
         if scene.free:
             recorder.pose_source = self.sim.object_pose
         self.home()
@@ -397,9 +398,12 @@ class Explorer:
         (:func:`~hapticsim.sim.dynamics.lost_reason`); the reason is kept in :attr:`lost` and
         ends the exploration."""
         if self.scene.free and self.lost is None:
-            from hapticsim.sim.dynamics import lost_reason
+            from hapticsim.sim.dynamics import MotionWatch
 
-            self.lost = lost_reason(self.sim.object_pose(), self.sim.initial_object_pose)
+            initial = self.sim.initial_object_pose
+            if self._watch is None or self._watch.initial is not initial:
+                self._watch = MotionWatch(initial, self.scene.object_body_id)
+            self.lost = self._watch.reason(self.sim.data)
         return self.lost
 
     # ------------------------------------------------------------------ patterns

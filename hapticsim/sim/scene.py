@@ -268,8 +268,7 @@ def _compile(
         )
     dynamics = config.object_dynamics
     if dynamics.free and primitive is None:
-        add_dynamics(spec, body, truth, dynamics, collision.body_position,
-                     collision.body_rotation, collision.vertices_world, layout.foot)  # fmt: skip
+        add_dynamics(spec, body, truth, dynamics, collision, layout.foot)
         # MuJoCo's soft friction lets a loaded contact creep (a resting 400 g cube turned 1
         # degree a second under 0.03 N m, half the torque its friction holds); the no-slip
         # solver's passes stop that (0.02 degrees).

@@ -202,3 +202,38 @@ def test_explore_a_resting_object_with_tracking_writes_the_spec_files(capsys, tm
     assert metrics["object_motion"]["mass_kg"] == pytest.approx(0.4)
     assert metrics["force_limit"] == 0.3
     assert (out / "truth.json").exists() and (out / "truth_final.json").exists()
+
+
+# ----------------------------------------------------------------------------- environments
+def test_the_analytic_backend_refuses_a_free_object() -> None:
+    from hapticsim.envs.haptic_explore_v0 import HapticExploreConfig
+
+    for extra in ({"object_dynamics": "resting"}, {"force_limit": 0.3},
+                  {"displacement_penalty": 1.0}):  # fmt: skip
+        with pytest.raises(InvalidInputError, match="MuJoCo backend"):
+            HapticExploreConfig(backend="analytic", **extra)
+    with pytest.raises(InvalidInputError, match="displacement_penalty"):
+        HapticExploreConfig(displacement_penalty=-1.0)
+
+
+def test_a_touch_says_how_far_it_moved_the_object_and_the_penalty_takes_it_off() -> None:
+    from hapticsim.envs.haptic_explore_v0 import HapticExploreEnv
+
+    def episode(penalty: float) -> list[tuple[float, float]]:
+        env = HapticExploreEnv(objects="paper", reward="eof", touch_budget=4,
+                               object_dynamics=ObjectDynamics("resting", mass=0.2),
+                               displacement_penalty=penalty)  # fmt: skip
+        env.reset(seed=3)
+        env.action_space.seed(3)
+        out = []
+        for _ in range(4):
+            _, reward, _, _, info = env.step(env.action_space.sample())
+            assert info["object_moved"] >= 0.0 and info["object_turned"] >= 0.0
+            out.append((reward, info["object_moved"]))
+        return out
+
+    plain, penalised = episode(0.0), episode(100.0)
+    # the same episode (one machine, one seed): the penalty is all that differs
+    for (r0, moved0), (r1, moved1) in zip(plain, penalised, strict=True):
+        assert moved0 == moved1
+        assert r1 == pytest.approx(r0 - 100.0 * moved0, abs=1e-12)
