@@ -7,9 +7,10 @@ Three kinds (:data:`OBJECT_DYNAMICS`):
 - ``resting``: a free body (MuJoCo free joint) of a stated mass under gravity, standing in a
   *cradle* on the post: eight pins on a circle under its bottom, each as high as the bottom
   above it (a lab's pin holder shaped to the object), so that a sphere or an ellipsoid on its
-  tip rests as a box does, and the fingers still reach around
-  the bottom edges. A push that beats friction slides it, a push above its centre of mass tips
-  it; it stands where the cradle leaves it.
+  tip rests as a box does, and the fingers still reach around the bottom edges. The pins meet
+  a coarse support hull of the object (:func:`support_hull`); the scene runs MuJoCo's no-slip
+  solver (see :mod:`hapticsim.sim.scene`). A push that beats friction slides the object, a push
+  above its centre of mass tips it.
 - ``held``: a free body on a stiff spring-damper to where it was placed (a lab's soft clamp):
   three slide joints and a ball joint with stiffness :attr:`ObjectDynamics.clamp_stiffness`
   [N/m] (and ``k L^2`` [N m/rad] for the rotation, ``L`` the object's bounding radius),
@@ -17,14 +18,15 @@ Three kinds (:data:`OBJECT_DYNAMICS`):
   it was placed. A 0.5 N press moves it by a quarter of a millimetre at the default 2,000 N/m.
 
 The mass is ``density * volume`` (default density :data:`DEFAULT_DENSITY`) unless given; the
-centre of mass and the inertia tensor come from 4,096 quasi-random interior points of the truth.
+centre of mass and the inertia tensor come from 4,096 interior points of the truth (seed 0).
 
 Before the first touch the object *settles* (:func:`settle`): the scene steps (up to 1 s, until it
-is at rest) with the hand far above it, and the pose it comes to rest in is the model's reference pose (``qpos0``), so every
-reset starts from rest. An object that tips over in its cradle there, or is still moving, (more than
-:data:`TOPPLE_ANGLE_DEG`) is refused, said as such. During an exploration an object that tips
-over or leaves its place (:data:`LEAVE_DISTANCE`) ends the run with that stop reason
-(:func:`lost_reason`).
+is at rest) with the hand far above it, and the pose it comes to rest in is the model's
+reference pose (``qpos0``), so every reset starts from rest. An object that tips over in its
+cradle there (more than 5 degrees or 10 mm), or is still moving after 1 s, is refused, said as
+such. During an exploration an object that tips over (:data:`TOPPLE_ANGLE_DEG`) or leaves its
+place (:data:`LEAVE_DISTANCE`) ends the run with that stop reason (:func:`lost_reason`,
+:class:`MotionWatch`).
 """
 
 from __future__ import annotations
