@@ -215,8 +215,8 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     carried = estimate
     tracked = getattr(result, "poses", None)
     if tracked is not None:
-        truth = true_poses(poses, initial)
-        out["pose_drift"] = pose_drift(tracked[-1], truth[-1], run.truth.center)
+        truth = true_poses(poses[-1:], initial)[0]  # the last contact's only
+        out["pose_drift"] = pose_drift(tracked[-1], truth, run.truth.center)
         rot = quaternion_to_matrix(tracked[-1][3:])
         carried = estimate.transformed(rot, tracked[-1][:3])
     final = score_checked(carried, run.truth_final, rng)

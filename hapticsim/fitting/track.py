@@ -127,6 +127,13 @@ class Tracked:
         return np.column_stack([origin, quat[:, 3], quat[:, :3]])
 
 
+def _residuals(points: Array, normals: Array, vector: Array, lam: float) -> Array:
+    """The EOF residuals (n,) of the contacts against the superquadric `vector` (13,)."""
+    rotation = Rotation.from_rotvec(vector[SLICE_ROTVEC]).as_matrix()
+    return contact_residuals(points, normals, vector[SLICE_A], vector[SLICE_EPS],
+                             vector[SLICE_TAPER], rotation, vector[SLICE_CENTER], lam)  # fmt: skip
+
+
 def _soft_l1(r: Array) -> Array:
     """Residuals whose squares are the soft-L1 cost ``2 (sqrt(1 + r^2) - 1)``."""
     return np.sign(r) * np.sqrt(2.0 * (np.sqrt(1.0 + r * r) - 1.0))
@@ -165,9 +172,7 @@ def track_poses(
     scales = prior.scales
     _, weights = knot_weights(n)
     k = weights.shape[1]
-    r0 = contact_residuals(points, normals, start[SLICE_A], start[SLICE_EPS], start[SLICE_TAPER],
-                           Rotation.from_rotvec(start[SLICE_ROTVEC]).as_matrix(),
-                           start[SLICE_CENTER], lam)  # fmt: skip
+    r0 = _residuals(points, normals, start, lam)
     sigma_c = max(MIN_CONTACT_SCALE, float(np.sqrt(np.mean(r0**2))))
     pivot = np.asarray(start[SLICE_CENTER], dtype=np.float64).copy()
 
@@ -182,9 +187,7 @@ def track_poses(
         rot = Rotation.from_rotvec(motion[:, :3]).as_matrix()
         local = np.einsum("nji,nj->ni", rot, points - motion[:, 3:] - pivot) + pivot
         local_n = np.einsum("nji,nj->ni", rot, normals)
-        r = contact_residuals(local, local_n, shape[SLICE_A], shape[SLICE_EPS],
-                              shape[SLICE_TAPER], Rotation.from_rotvec(shape[SLICE_ROTVEC])
-                              .as_matrix(), shape[SLICE_CENTER], lam)  # fmt: skip
+        r = _residuals(local, local_n, shape, lam)
         steps = np.diff(knots, axis=0) / scales
         return np.concatenate([_soft_l1(r / sigma_c), _soft_l1(steps).ravel()])
 
@@ -240,10 +243,9 @@ def fit_tracked(method: str, points: Array, normals: Array, fit_shape: Any, star
     if SHAPE_METHOD[method] == "multi":
         shaped = fit_shape("multi", local, local_n)
     else:
-        solid = Superquadric.from_vector(tracked.vector)
-        r = contact_residuals(local, local_n, solid.a, solid.eps, solid.taper, solid.rotation,
-                              solid.center, lam)  # fmt: skip
-        shaped = replace(naive, solid=solid, eof=float(np.mean(r**2)))
+        r = _residuals(local, local_n, tracked.vector, lam)
+        shaped = replace(naive, solid=Superquadric.from_vector(tracked.vector),
+                         eof=float(np.mean(r**2)))  # fmt: skip
     return replace(
         shaped, method=method, seconds=time.perf_counter() - start, poses=tracked.poses(),
         message=f"{shaped.message}; poses tracked ({tracked.status}, {tracked.iterations} "
@@ -271,14 +273,12 @@ def true_poses(object_poses: Array, initial: Array) -> Array:
     """(n, 7) the true poses of the object's frame (its pose at rest, `initial` (7,)) at each
     contact, in :meth:`Tracked.poses`'s layout, from ``contacts.npz``'s ``object_pose``
     (n, 7: the object body's pose)."""
+    poses = np.atleast_2d(np.asarray(object_poses, dtype=np.float64))
     r0 = Rotation.from_quat([*initial[4:], initial[3]])
-    out = np.empty((len(object_poses), 7))
-    for i, pose in enumerate(object_poses):
-        rel = Rotation.from_quat([*pose[4:], pose[3]]) * r0.inv()
-        out[i, :3] = pose[:3] - rel.apply(np.asarray(initial[:3], dtype=np.float64))
-        quat = rel.as_quat()
-        out[i, 3], out[i, 4:] = quat[3], quat[:3]
-    return out
+    rel = Rotation.from_quat(poses[:, [4, 5, 6, 3]]) * r0.inv()
+    origin = poses[:, :3] - rel.apply(np.asarray(initial[:3], dtype=np.float64))
+    quat = rel.as_quat()  # x, y, z, w
+    return np.column_stack([origin, quat[:, 3], quat[:, :3]])
 
 
 __all__ = [

@@ -25,8 +25,7 @@ is at rest) with the hand far above it, and the pose it comes to rest in is the 
 reference pose (``qpos0``), so every reset starts from rest. An object that tips over in its
 cradle there (more than 5 degrees or 10 mm), or is still moving after 1 s, is refused, said as
 such. During an exploration an object that tips over (:data:`TOPPLE_ANGLE_DEG`) or leaves its
-place (:data:`LEAVE_DISTANCE`) ends the run with that stop reason (:func:`lost_reason`,
-:class:`MotionWatch`).
+place (:data:`LEAVE_DISTANCE`) ends the run with that stop reason (:class:`MotionWatch`).
 """
 
 from __future__ import annotations
@@ -277,17 +276,12 @@ def tilt_deg(pose: Array, initial: Array) -> float:
     return math.degrees(math.acos(float(np.clip(rotation[2, 2], -1.0, 1.0))))
 
 
-def lost_reason(pose: Array, initial: Array) -> str | None:
-    """Why the exploration of an object now at `pose` must end, or None: it tipped over
-    (tilted more than :data:`TOPPLE_ANGLE_DEG`) or left its place (moved more than
-    :data:`LEAVE_DISTANCE`)."""
-    return _reason(tilt_deg(pose, initial), float(np.linalg.norm(pose[:3] - initial[:3])))
-
-
 class MotionWatch:
-    """:func:`lost_reason` of a free object in a running simulation, every control tick: from
-    MuJoCo's body matrix and position, without quaternions (a tenth of a second per exploration
-    less than through :func:`object_pose`).
+    """Why the exploration of a free object must end, checked every control tick: it tipped over
+    (tilted more than :data:`TOPPLE_ANGLE_DEG` from its pose at rest) or left its place (its
+    centre moved more than :data:`LEAVE_DISTANCE`). Read from MuJoCo's body matrix and position,
+    without quaternions (a tenth of a second per exploration less than through
+    :func:`object_pose`).
 
     Args:
         initial: the object's pose (7,) at rest.
@@ -318,9 +312,9 @@ def _reason(tilt: float, moved: float) -> str | None:
 
 
 def settle(model: mujoco.MjModel, body_id: int, palm_qpos_adr: int, mocap_id: int,
-           kind: str) -> Array:  # fmt: skip
+           kind: str) -> tuple[Array, Array]:  # fmt: skip
     """Let a free object come to rest with the hand far above it; its resting pose becomes the
-    model's reference (``qpos0``). Returns the pose (7,) it rests in.
+    model's reference (``qpos0``). Returns the poses (7,) it was placed in and rests in.
 
     Raises:
         SimulationError: the object tips over in its cradle before the first touch.
@@ -352,12 +346,12 @@ def settle(model: mujoco.MjModel, body_id: int, palm_qpos_adr: int, mocap_id: in
     if kind == "resting":
         adr = int(model.jnt_qposadr[model.body_jntadr[body_id]])
         model.qpos0[adr : adr + 7] = data.qpos[adr : adr + 7]
-    return rest
+    return placed, rest
 
 
 __all__ = [
     "CRADLE_PREFIX", "DEFAULT_CLAMP_STIFFNESS", "DEFAULT_DENSITY", "LEAVE_DISTANCE",
     "OBJECT_DYNAMICS", "ObjectDynamics", "TOPPLE_ANGLE_DEG", "add_dynamics", "cradle_pins",
-    "dynamics_arg", "lost_reason", "MotionWatch", "mass_properties", "object_pose", "pose_change",
+    "dynamics_arg", "MotionWatch", "mass_properties", "object_pose", "pose_change",
     "relative_motion", "settle", "tilt_deg",
 ]  # fmt: skip

@@ -395,7 +395,7 @@ class Explorer:
 
     def check_object(self) -> str | None:
         """With a free object, whether it tipped over or left its place
-        (:func:`~hapticsim.sim.dynamics.lost_reason`); the reason is kept in :attr:`lost` and
+        (:class:`~hapticsim.sim.dynamics.MotionWatch`); the reason is kept in :attr:`lost` and
         ends the exploration."""
         if self.scene.free and self.lost is None:
             from hapticsim.sim.dynamics import MotionWatch

@@ -303,13 +303,10 @@ def _compile(
 def _settled(scene: Scene) -> Scene:
     """A free object's scene with the object at rest (:func:`~hapticsim.sim.dynamics.settle`):
     its model's reference pose and its truth where it came to rest."""
-    from hapticsim.sim.dynamics import object_pose, relative_motion
+    from hapticsim.sim.dynamics import relative_motion
 
     model, hand = scene.model, scene.hand
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
-    placed = object_pose(model, data, scene.object_body_id)
-    rest = settle(model, scene.object_body_id, hand.palm_qpos_adr, hand.mocap_id,
+    placed, rest = settle(model, scene.object_body_id, hand.palm_qpos_adr, hand.mocap_id,
                   scene.config.object_dynamics.kind)  # fmt: skip
     rotation, translation = relative_motion(rest, placed)
     return replace(scene, truth=scene.truth.transformed(rotation, translation), placed=scene.truth)

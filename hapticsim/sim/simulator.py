@@ -444,15 +444,17 @@ class Simulator:
         hand = self.hand.hand_geom_set
         total, direction = 0.0, np.zeros(3)
         force6 = np.zeros(6)
-        for i, (g0, g1) in enumerate(d.contact.geom[:ncon].tolist()):
+        con = d.contact  # each attribute is a fresh (ncon, k) copy: read each once
+        frames, efc = con.frame, con.efc_address
+        for i, (g0, g1) in enumerate(con.geom[:ncon].tolist()):
             first = g0 in objects
             other = g1 if first else g0
             if not (first or g1 in objects) or other not in hand or other in tips:
                 continue
-            if d.contact.efc_address[i] < 0:
+            if efc[i] < 0:
                 continue
             mujoco.mj_contactForce(self.model, d, i, force6)
-            normal = d.contact.frame[i, :3] if first else -d.contact.frame[i, :3]
+            normal = frames[i, :3] if first else -frames[i, :3]
             total += max(float(force6[0]), 0.0)
             direction += max(float(force6[0]), 0.0) * normal
         if total <= 0.0:

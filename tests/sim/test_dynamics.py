@@ -5,6 +5,7 @@ chaotic trajectory (scripts/free_objects.py measures it over families)."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import mujoco
 import numpy as np
@@ -13,10 +14,11 @@ import pytest
 from hapticsim.data import get_body
 from hapticsim.data.objects import random_composite
 from hapticsim.errors import InvalidInputError, SimulationError
+from hapticsim.geometry.rotations import quaternion_to_matrix
 from hapticsim.sim.dynamics import (
     CRADLE_PREFIX,
+    MotionWatch,
     ObjectDynamics,
-    lost_reason,
     object_pose,
     pose_change,
     relative_motion,
@@ -108,11 +110,18 @@ def test_motion_measures() -> None:
     assert pose_change(yaw, initial) == pytest.approx((0.01, 30.0))
     rotation, translation = relative_motion(yaw, initial)
     assert np.allclose(rotation @ initial[:3] + translation, yaw[:3])
-    assert lost_reason(yaw, initial) is None
+    watch = MotionWatch(initial, 0)
+
+    def reason(pose: np.ndarray) -> str | None:  # MjData's body 0 at `pose`
+        data = SimpleNamespace(xmat=quaternion_to_matrix(pose[3:]).reshape(1, 9),
+                               xpos=pose[None, :3])  # fmt: skip
+        return watch.reason(data)
+
+    assert reason(yaw) is None
     tipped = np.array([0.1, 0.0, 0.2, math.cos(0.2), math.sin(0.2), 0.0, 0.0])  # 23 deg
-    assert "tipped over" in lost_reason(tipped, initial)
+    assert "tipped over" in reason(tipped)
     gone = initial + [0.06, 0, 0, 0, 0, 0, 0]
-    assert "left its place" in lost_reason(gone, initial)
+    assert "left its place" in reason(gone)
 
 
 def test_a_force_limit_lowers_what_the_controllers_press_with() -> None:
