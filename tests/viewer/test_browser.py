@@ -91,12 +91,23 @@ def _settled(page: Any, check: Any, timeout: float = 15.0) -> np.ndarray:
         page.wait_for_timeout(300)
 
 
+#: The label naming the state drawn, read through viser's scene-tree test hook: '' until the
+#: page has set the hook up (a drawn canvas may come first; a predicate that throws would end
+#: Playwright's wait at once instead of polling on).
+STATUS_JS = (
+    "(() => { const tree = window.__viserSceneTree;"
+    " const n = tree && tree.getState()['/status'];"
+    " return n ? n.message.props.text : ''; })()"
+)
+
+
 def _status(page: Any) -> str:
-    """The label naming the state drawn (through viser's scene-tree test hook)."""
-    return page.evaluate(
-        "() => { const n = window.__viserSceneTree.getState()['/status'];"
-        " return n ? n.message.props.text : ''; }"
-    )
+    return page.evaluate(f"() => {STATUS_JS}")
+
+
+def _wait_status(page: Any, prefix: str, timeout: float = 10000) -> None:
+    """Until the status label starts with `prefix`."""
+    page.wait_for_function(f"t => {STATUS_JS}.startsWith(t)", arg=prefix, timeout=timeout)
 
 
 def _nodes(page: Any) -> list[str]:
@@ -165,19 +176,12 @@ def test_the_live_viewer_serves_moves_with_its_slider_and_stops(browser, replay)
         page, errors, outside = _open(browser, urls[0])
         page.wait_for_selector("canvas", timeout=10000)
         last = len(states) - 1
-        page.wait_for_function(
-            "t => { const n = window.__viserSceneTree.getState()['/status'];"
-            " return n && n.message.props.text.startsWith(t); }",
-            arg=f"touch {last} of {last}:", timeout=10000,
-        )  # fmt: skip
+        _wait_status(page, f"touch {last} of {last}:")
         last = _settled(page, lambda img: _contact_pixels(img) > 2000)
         thumb = page.locator("[role=slider]").first
         thumb.focus()
         page.keyboard.press("Home")  # the touch slider to 0: no contacts yet
-        page.wait_for_function(
-            "() => window.__viserSceneTree.getState()['/status'].message.props.text"
-            ".startsWith('touch 0 of')", timeout=10000,
-        )  # fmt: skip
+        _wait_status(page, "touch 0 of")
         first = _settled(page, lambda img: _contact_pixels(img) < 500)
         assert _contact_pixels(last) > 2 * max(_contact_pixels(first), 10)
         for layer in ("truth", "contacts", "normals", "estimate", "hand"):  # a toggle each
@@ -221,8 +225,7 @@ def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) ->
     assert isinstance(data.estimate, SuperquadricUnion) and data.taxels is not None
     page_file = export_html(data, replay_states(data, estimate_every=20), tmp_path / "l.html")
     page, errors, outside = _open(browser, page_file.as_uri())
-    page.wait_for_function("() => window.__viserSceneTree &&"
-                           " window.__viserSceneTree.getState()['/status'] !== undefined")
+    _wait_status(page, "touch ")
     bar = page.locator(".mantine-Slider-root").bounding_box()
     page.locator("button").filter(has=page.locator("svg")).nth(1).click()
     page.mouse.click(bar["x"] + 0.995 * bar["width"], bar["y"] + bar["height"] / 2)
