@@ -185,38 +185,51 @@ def markdown(summary: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def timing(repeats: int = 3) -> dict[str, Any]:
+def timing(repeats: int = 4) -> dict[str, Any]:
     """What a free object costs ``explore`` (SPEC §12: within 1.5x of fixed): the paper's bodies,
-    paper strategy, 150 contacts, ``fixed`` against ``resting`` and ``held`` objects of 1 kg
-    (heavy enough that the unlimited strategy completes more often), each run `repeats` times
-    in this process after a warm-up; the median wall time of the exploration (scene and
-    settling included) and physics steps per second."""
+    paper strategy, 150 contacts, ``fixed`` against ``resting`` and ``held`` objects in two
+    settings: ``unlimited`` (no force limit, objects of 1 kg, heavy enough that most runs
+    complete) and ``gentle`` (a 0.3 N force limit, the default density). Each run `repeats`
+    times in this process after a warm-up, the kinds interleaved so that a change of load
+    falls on all; per body the median CPU seconds of the exploration (scene and settling
+    included), its ratio to the fixed object's, and the CPU microseconds a physics step costs.
+    A run that ended early (the object tipped over) explores less: its time ratio is marked
+    ``ended_early`` and only its per-step cost compares."""
     from hapticsim.data import get_body
     from hapticsim.sim.dynamics import ObjectDynamics
     from hapticsim.sim.scene import SceneConfig
     from hapticsim.sim.session import run_exploration
 
-    out: dict[str, Any] = {}
+    settings = {"unlimited": (1.0, None), "gentle": (None, 0.3)}
+    kinds = ("fixed", "resting", "held")
     run_exploration(get_body("cube"), "paper", 150, 0)  # warm-up
-    for kind in ("fixed", "resting", "held"):
-        dynamics = ObjectDynamics(kind, mass=None if kind == "fixed" else 1.0)
-        rows = []
-        for name in BODIES:
-            for _ in range(repeats):
-                scene = SceneConfig(object_dynamics=dynamics)
-                run = run_exploration(get_body(name), "paper", 150, 0, scene_config=scene)
-                rows.append((name, run.wall_time, run.steps_per_second, run.count))
-        out[kind] = {
-            "wall_seconds": {n: float(np.median([r[1] for r in rows if r[0] == n]))
-                             for n in BODIES},
-            "steps_per_second": float(np.median([r[2] for r in rows])),
-            "complete": sum(r[3] >= 150 for r in rows) / len(rows),
-        }
-    base = out["fixed"]
-    for kind in ("resting", "held"):
-        out[kind]["wall_ratio"] = {n: out[kind]["wall_seconds"][n] / base["wall_seconds"][n]
-                                   for n in BODIES}  # fmt: skip
-        out[kind]["step_cost_ratio"] = base["steps_per_second"] / out[kind]["steps_per_second"]
+    out: dict[str, Any] = {}
+    for setting, (mass, limit) in settings.items():
+        rows: dict[tuple[str, str], list[tuple[float, int, int]]] = {}
+        for _ in range(repeats):
+            for name in BODIES:
+                for kind in kinds:
+                    dynamics = ObjectDynamics(kind, mass=None if kind == "fixed" else mass)
+                    scene = SceneConfig(object_dynamics=dynamics, force_limit=limit)
+                    cpu = time.process_time()
+                    run = run_exploration(get_body(name), "paper", 150, 0, scene_config=scene)
+                    rows.setdefault((kind, name), []).append(
+                        (time.process_time() - cpu, run.steps, run.count))
+        table: dict[str, Any] = {}
+        for kind in kinds:
+            entry: dict[str, Any] = {}
+            for name in BODIES:
+                runs = rows[(kind, name)]
+                fixed = float(np.median([r[0] for r in rows[("fixed", name)]]))
+                cpu = float(np.median([r[0] for r in runs]))
+                entry[name] = {
+                    "cpu_seconds": cpu, "ratio": cpu / fixed,
+                    "us_per_step": 1e6 * float(np.median([r[0] / r[1] for r in runs])),
+                    "ended_early": sum(r[2] < 150 for r in runs),
+                }  # fmt: skip
+            table[kind] = entry
+        out[setting] = {"mass_kg": mass, "force_limit": limit, **table}
+    out["repeats"] = repeats
     out["load_average"] = os.getloadavg()
     return out
 

@@ -57,6 +57,7 @@ def test_a_fixed_scene_has_no_joint_no_cradle_and_the_default_solver() -> None:
     model = scene.model
     assert model.body_jntnum[scene.object_body_id] == 0
     assert model.opt.noslip_iterations == 0
+    assert not model.opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP
     assert not any(model.geom(g).name.startswith(CRADLE_PREFIX) for g in range(model.ngeom))
     assert scene.placed is None and not scene.free
 
@@ -85,6 +86,26 @@ def test_a_resting_object_has_its_mass_and_stays_at_rest_in_its_cradle(name: str
     # the truth is where it settled, close to where it was placed
     assert scene.placed is truth
     assert np.linalg.norm(scene.truth.center - truth.center) < 2e-3
+
+
+def test_a_resting_object_sleeps_untouched_and_a_push_wakes_it() -> None:
+    scene = build_scene(get_body("cube"), SceneConfig(object_dynamics="resting"))
+    model, tree = scene.model, scene.model.body_treeid[scene.object_body_id]
+    data = mujoco.MjData(model)
+    hand = slice(scene.hand.palm_qpos_adr, scene.hand.palm_qpos_adr + 3)
+    above = scene.truth.center + [0.0, 0.0, 0.6]
+    data.qpos[hand] = data.mocap_pos[scene.hand.mocap_id] = above
+    mujoco.mj_step(model, data, nstep=200)
+    assert data.tree_asleep[tree] >= 0  # asleep: its pins are out of the collision
+    assert not any(scene.object_body_id in (model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2])
+                   for c in data.contact[: data.ncon])  # fmt: skip
+    start = object_pose(model, data, scene.object_body_id)
+    data.xfrc_applied[scene.object_body_id, :3] = [0.0, 0.0, -5.0]  # a press wakes it
+    mujoco.mj_step(model, data)
+    assert data.tree_asleep[tree] < 0
+    data.xfrc_applied[:] = 0.0
+    mujoco.mj_step(model, data, nstep=200)
+    assert pose_change(object_pose(model, data, scene.object_body_id), start)[0] < 1e-3
 
 
 def test_a_held_object_hangs_where_it_was_placed() -> None:
