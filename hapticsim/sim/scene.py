@@ -276,8 +276,9 @@ def _compile(
         if dynamics.kind == "resting":
             # an object at rest in its cradle, untouched, sleeps (MuJoCo's sleeping islands: its
             # pin contacts leave the collision and the solver until a finger wakes it); with a
-            # 0.3 N limit this took explore's time 1.70-2.06 -> 1.32-1.56 times a fixed scene's,
-            # and over 168 runs it tipped 39 objects against 36 awake (docs/objects/moving)
+            # 0.3 N limit this took explore's time 1.70-2.06 -> 1.33-1.54 times a fixed scene's,
+            # and over 168 runs 43 objects tipped over asleep against 42 awake
+            # (docs/objects/moving)
             spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     spec.worldbody.add_geom(
         name=STAND_NAME,
