@@ -51,6 +51,10 @@ class RunData:
         metrics: ``metrics.json``.
         hand: ``hand.npz``'s arrays, or None (an older run).
         taxels: (n, rows, cols) pressure image of each contact's pad, or None.
+        object_pose: (n, 7) a free object's body pose at each contact (position [m],
+            quaternion w first; SPEC §12), or None for a fixed object.
+        tracked: a tracking fit's poses (``fit.json``'s ``poses``, (n, 7), the estimate's frame
+            in the world at each contact), or None.
     """
 
     path: Path
@@ -64,6 +68,8 @@ class RunData:
     metrics: dict[str, Any]
     hand: dict[str, np.ndarray] | None = None
     taxels: np.ndarray | None = None
+    object_pose: np.ndarray | None = None
+    tracked: np.ndarray | None = None
 
     @property
     def title(self) -> str:
@@ -128,7 +134,23 @@ def load_run(path: str | Path) -> RunData:
         path=run, truth=truth, estimate=estimate, method=str(fit.get("method", "nH")),
         points=contacts.points, normals=contacts.normals, finger=finger, finger_names=names,
         metrics=metrics, hand=hand, taxels=taxels,
+        object_pose=_poses(extra.get("object_pose"), n, f"{run}/contacts.npz: object_pose"),
+        tracked=_poses(fit.get("poses"), n, f"{run}/fit.json: poses"),
     )  # fmt: skip
+
+
+def _poses(value: Any, n: int, what: str) -> np.ndarray | None:
+    """Poses read from a run's file, checked: (n, 7) finite numbers, or None when absent."""
+    if value is None:
+        return None
+    try:
+        pose = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        pose = None
+    if pose is None or pose.shape != (n, 7) or not np.all(np.isfinite(pose)):
+        got = "something else" if pose is None else f"shape {pose.shape}"
+        raise InvalidInputError(f"{what} must be ({n}, 7) finite numbers, got {got}")
+    return pose
 
 
 def _read_object(path: Path) -> dict[str, Any]:

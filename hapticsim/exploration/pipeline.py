@@ -188,7 +188,9 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     """How a free object moved and what the estimate is against it (SPEC §12, ``metrics.json``'s
     ``object_motion``): its dynamics and mass; ``moved`` (``position_m``, ``angle_deg`` of its
     centre and attitude) at the last contact and at the end, from where it rested before the
-    first touch (the truth the quality measures score against: ``truth.json``); ``final_pose``,
+    first touch (the truth the quality measures score against: ``truth.json``); ``rest_pose``,
+    the object body's pose then (7: position [m], quaternion w first; ``contacts.npz``'s
+    ``object_pose`` is the same body's at each contact); ``final_pose``,
     the estimate's IoU and epsilon against the object where the run left it (a tracking fit's
     estimate carried there by its last tracked pose); with a tracking fit, ``pose_drift``: its
     last tracked pose against the truth's (:func:`~hapticsim.fitting.track.pose_drift`)."""
@@ -208,6 +210,7 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
             "last_contact": _moved(pose_change(last, initial)),
             "end": _moved(pose_change(sim.object_pose(), initial)),
         },
+        "rest_pose": [float(v) for v in initial],
         "truth_initial": "the object at rest before the first touch (truth.json; the quality "
         "measures)",
         "truth_final": "the object where the exploration left it (truth_final.json)",

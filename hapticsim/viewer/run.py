@@ -38,6 +38,9 @@ class State:
         hand_position, hand_wxyz: (G, 3) and (G, 4) pose of every hand geom, or None.
         estimate: the solid fitted to the contacts so far (None before 13), with its epsilon.
         method: the method that fitted it.
+        object_pose: a free object's motion from rest at the state's last contact (7:
+            translation [m] and quaternion w first, ``x_now = R x_rest + t``), or None (a
+            fixed object, or a run whose metrics do not say where the object rested).
     """
 
     contacts: int
@@ -46,6 +49,7 @@ class State:
     estimate: Solid | None = None
     epsilon: float | None = None
     method: str = ""
+    object_pose: np.ndarray | None = None
 
 
 
@@ -75,6 +79,7 @@ def replay_states(
         counts, positions, rotations = np.arange(n + 1), None, None
     if counts[-1] < n:  # contacts after the last recorded touch belong to the last state
         counts[-1] = n
+    motion = object_motion(run)
     scorer = TruthScorer(run.truth, rng=0)
     method = run.method if run.method in REPLAY_METHODS else "nH"
     due = [k for k in range(len(counts)) if counts[k] >= MIN_FIT_CONTACTS]
@@ -90,6 +95,11 @@ def replay_states(
                 progress(done, len(due) + 1)
         if k == len(counts) - 1:
             current = run.estimate
+            if run.tracked is not None:  # a tracking fit's shape is in the object's frame
+                from hapticsim.geometry.rotations import quaternion_to_matrix
+
+                last = run.tracked[-1]
+                current = current.transformed(quaternion_to_matrix(last[3:]), last[:3])
             eps = run.metrics.get("epsilon")
             eps = float(eps) if eps is not None else scorer.score(run.estimate).epsilon
             if progress is not None:
@@ -100,8 +110,26 @@ def replay_states(
             hand_wxyz=None if rotations is None else rotations[k],
             estimate=current, epsilon=eps,
             method=run.method if k == len(counts) - 1 else method,
+            object_pose=None if motion is None or c == 0 else motion[c - 1],
         ))  # fmt: skip
     return states
 
 
-__all__ = ["RunData", "State", "load_run", "missing_files", "replay_states"]
+def object_motion(run: RunData) -> np.ndarray | None:
+    """(n, 7) a free object's motion from rest at each contact (:class:`State`'s
+    ``object_pose``), from ``contacts.npz``'s body poses and the rest pose ``metrics.json``
+    states (``object_motion.rest_pose``); None for a fixed object or an older run."""
+    from hapticsim.fitting.track import true_poses
+
+    rest = run.metrics.get("object_motion", {}).get("rest_pose")
+    if run.object_pose is None or rest is None:
+        return None
+    rest = np.asarray(rest, dtype=np.float64)
+    if rest.shape != (7,) or not np.all(np.isfinite(rest)):
+        raise InvalidInputError(
+            f"{run.path}/metrics.json: object_motion.rest_pose must be 7 finite numbers"
+        )
+    return true_poses(run.object_pose, rest)
+
+
+__all__ = ["RunData", "State", "load_run", "missing_files", "object_motion", "replay_states"]

@@ -1,8 +1,9 @@
 """A run drawn in a viser scene, and moved from state to state.
 
 Layers (scene nodes under one name each, toggled together): ``/truth`` (the true solid, blue,
-half transparent), ``/contacts`` (one point cloud and one set of normals per touch, coloured by
-finger as in ``report.png``), ``/estimate`` (the estimate after the touch: one superquadric in
+half transparent; a free object where it was at the state's last touch, SPEC §12),
+``/contacts`` (one point cloud and one set of normals per touch, coloured by finger as in
+``report.png``), ``/estimate`` (the estimate after the touch: one superquadric in
 orange, a union's parts each in its colour), ``/hand`` (MuJoCo's geoms as meshes) and
 ``/taxels`` (the pressure image of the last contact's pad, beside the object). A label above
 the object names the state: touch, contacts, the estimate's method and epsilon.
@@ -141,14 +142,32 @@ class RunScene:
                     node.position = state.hand_position[g]
                     node.wxyz = state.hand_wxyz[g]
                     self._set_visible(node, self.visible["hand"])
+        moved = self._move_truth(state)
         self._show_estimate(state)
         self._show_taxels(state)
         eps = "" if state.epsilon is None else f", epsilon {state.epsilon:.3f}"
         fit = "no estimate yet (13 contacts needed)" if state.estimate is None else (
             f"{state.method} estimate{eps}"
         )  # fmt: skip
-        self._label.text = f"touch {k} of {len(self.states) - 1}: {state.contacts} contacts, {fit}"
+        self._label.text = (
+            f"touch {k} of {len(self.states) - 1}: {state.contacts} contacts, {fit}{moved}"
+        )
         self.state = k
+
+    def _move_truth(self, state: State) -> str:
+        """Carry a free object's truth to where it was at the state's last contact; the
+        label's words for how far that is from rest ('' for a fixed object)."""
+        pose = state.object_pose
+        if pose is None:
+            return ""
+        for node in self._truth_nodes:
+            node.position = pose[:3]
+            node.wxyz = pose[3:]
+        from hapticsim.fitting.track import pose_drift
+
+        rest = pose_drift(pose, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), self.center)
+        return (f"; the object moved {1000 * rest['position_m']:.1f} mm, "
+                f"{rest['angle_deg']:.1f} deg")  # fmt: skip
 
     def _show_estimate(self, state: State) -> None:
         if state.estimate is not self._estimate_of:

@@ -90,3 +90,97 @@ def test_view_without_viser_names_the_extra(capsys, run_dir: Path, monkeypatch) 
     monkeypatch.setitem(sys.modules, "viser", None)  # `import viser` raises ImportError
     code, out, err = run(capsys, "view", str(run_dir), "--export", str(run_dir / "x.html"))
     assert_bad_input(code, out, err, "view", "pip install 'hapticsim[viewer]'")
+
+
+@pytest.fixture(scope="module")
+def free_run(tmp_path_factory) -> Path:  # noqa: ANN001
+    from hapticsim.exploration import explore
+    from hapticsim.sim.dynamics import ObjectDynamics
+
+    out = tmp_path_factory.mktemp("free") / "run"
+    explore("cube", strategy="paper", seed=0, out_dir=out, progress=False, count=30,
+            method="nH+track", object_dynamics=ObjectDynamics("resting", mass=0.2),
+            force_limit=0.3)  # fmt: skip
+    return out
+
+
+class _Node:
+    """A viser scene node as far as the viewer uses one."""
+
+    def __init__(self) -> None:
+        self.position, self.wxyz, self.visible, self.text = np.zeros(3), np.eye(4)[0], True, ""
+
+    def remove(self) -> None:
+        self.visible = None
+
+
+class _Scene:
+    """viser's SceneApi as far as the viewer uses it: every add_* makes a node."""
+
+    def __init__(self) -> None:
+        self.nodes: dict[str, _Node] = {}
+
+    def set_up_direction(self, _: str) -> None:
+        pass
+
+    def __getattr__(self, name: str):  # noqa: ANN204
+        def add(path: str, *args, **kwargs) -> _Node:  # noqa: ANN002, ANN003
+            self.nodes[path] = _Node()
+            return self.nodes[path]
+
+        assert name.startswith("add_"), name
+        return add
+
+
+def test_a_free_object_moves_in_the_replay_as_it_moved_in_the_run(free_run: Path) -> None:
+    from hapticsim.fitting.track import true_poses
+    from hapticsim.geometry.rotations import quaternion_to_matrix
+    from hapticsim.viewer.run import object_motion
+    from hapticsim.viewer.scene import RunScene
+
+    data = load_run(free_run)
+    n = len(data.points)
+    assert data.object_pose.shape == (n, 7) and data.tracked.shape == (n, 7)
+    rest = data.metrics["object_motion"]["rest_pose"]
+    motion = object_motion(data)
+    np.testing.assert_allclose(motion, true_poses(data.object_pose, np.array(rest)))
+    states = replay_states(data, estimate_every=100)
+    assert states[0].object_pose is None  # no contact yet: the object at rest
+    np.testing.assert_allclose(states[-1].object_pose, motion[-1])
+    # the last state draws the tracking fit where its last tracked pose puts it
+    last = data.tracked[-1]
+    np.testing.assert_allclose(states[-1].estimate.center,
+                               quaternion_to_matrix(last[3:]) @ data.estimate.center + last[:3],
+                               atol=1e-9)  # fmt: skip
+    scene = _Scene()
+    view = RunScene(scene, data, states)
+    view.show(len(states) - 1)
+    truth = scene.nodes["/truth/part0"]
+    np.testing.assert_allclose(truth.position, motion[-1][:3])
+    np.testing.assert_allclose(truth.wxyz, motion[-1][3:])
+    assert "the object moved" in scene.nodes["/status"].text
+
+
+def test_a_fixed_run_draws_its_truth_where_it_stands(run_dir: Path) -> None:
+    from hapticsim.viewer.scene import RunScene
+
+    data = load_run(run_dir)
+    assert data.object_pose is None and data.tracked is None
+    states = replay_states(data, estimate_every=100)
+    assert all(s.object_pose is None for s in states)
+    scene = _Scene()
+    RunScene(scene, data, states).show(len(states) - 1)
+    assert np.all(scene.nodes["/truth/part0"].position == 0)
+    assert "moved" not in scene.nodes["/status"].text
+
+
+def test_bad_object_poses_are_one_line(free_run: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad"
+    shutil.copytree(free_run, bad)
+    with np.load(bad / "contacts.npz") as z:
+        arrays = dict(z)
+    arrays["object_pose"] = arrays["object_pose"][:, :6]
+    np.savez(bad / "contacts.npz", **arrays)
+    with pytest.raises(InvalidInputError, match=r"object_pose must be \(\d+, 7\)") as exc:
+        load_run(bad)
+    assert "\n" not in str(exc.value)
