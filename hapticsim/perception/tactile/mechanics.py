@@ -1,0 +1,235 @@
+"""Reference contact mechanics for the skin (issue 38, item 3; SPEC §11): what an elastic layer
+really does under a press, to hold the skin's law against.
+
+Three references for a sphere of radius R pressed by an indentation delta:
+
+- :func:`hertz_sphere`: Hertz's half-space solution (the layer far thicker than the contact):
+  ``a = sqrt(R delta)``, ``F = 4/3 E* sqrt(R) delta^(3/2)``, ``p(r) = p0 sqrt(1 - r^2/a^2)``
+  with ``p0 = 2 E* a / (pi R)`` and ``E* = E / (1 - nu^2)`` (one elastic body, the other rigid);
+- :func:`winkler_sphere`: the skin's own law (:class:`~hapticsim.perception.tactile.skin.
+  SkinModel`, a Winkler foundation ``p = E d / h``): ``a = sqrt(2 R delta)``,
+  ``F = pi E R delta^2 / h``, ``p0 = E delta / h``; exact for a thin layer (contact radius
+  several thicknesses) of a material without lateral coupling (Poisson's ratio 0);
+- :func:`fem_layer_press` and :func:`fem_pad_press`: a finite-element solution of linear
+  elasticity (axisymmetric, quadratic triangles, scikit-fem) with frictionless contact found by
+  an active set, for any thickness and Poisson's ratio: a flat layer bonded to a rigid base
+  under a rigid sphere, and a fingertip pad (a layer bonded on a rigid spherical core) pressed
+  onto a rigid flat. Both limits hold (tests/perception/test_mechanics.py): a thick layer gives
+  Hertz's force, contact radius and peak pressure within 2-3 %, a thin layer of Poisson's ratio
+  0 the Winkler force and peak pressure within 1 %.
+
+The FE solutions need the ``fem`` extra (``pip install -e ".[fem]"``: scikit-fem). What they
+say of the skin's law is in docs/tactile/mechanics/README.md (``scripts/skin_mechanics.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from hapticsim._validate import finite_float
+from hapticsim.errors import InvalidInputError
+
+Array = NDArray[np.float64]
+
+#: Active-set passes of the contact solution (it settles in 3-8).
+MAX_PASSES: int = 40
+
+
+@dataclass(frozen=True)
+class ContactSolution:
+    """A sphere's press: force [N], contact radius [m], peak (centre) pressure [Pa] and, for
+    the FE solutions, the surface pressure ``pressure`` [Pa] at radii ``radii`` [m]."""
+
+    force: float
+    contact_radius: float
+    peak_pressure: float
+    radii: Array | None = None
+    pressure: Array | None = None
+
+
+def _check(modulus: float, poisson: float, radius: float, indentation: float) -> None:
+    finite_float(modulus, "modulus", low=1.0, high=1e12)
+    finite_float(poisson, "poisson", low=0.0, high=0.4999)
+    finite_float(radius, "radius", low=1e-5, high=1.0)
+    finite_float(indentation, "indentation", low=1e-9, high=0.5 * radius)
+
+
+def hertz_sphere(modulus: float, poisson: float, radius: float,
+                 indentation: float) -> ContactSolution:  # fmt: skip
+    """Hertz's solution (module docstring): a rigid sphere into an elastic half-space, or an
+    elastic sphere onto a rigid flat."""
+    _check(modulus, poisson, radius, indentation)
+    e_star = modulus / (1.0 - poisson**2)
+    a = math.sqrt(radius * indentation)
+    return ContactSolution(
+        force=4.0 / 3.0 * e_star * math.sqrt(radius) * indentation**1.5,
+        contact_radius=a, peak_pressure=2.0 * e_star * a / (math.pi * radius),
+    )  # fmt: skip
+
+
+def winkler_sphere(skin: Any, radius: float, indentation: float) -> ContactSolution:
+    """The skin's law for a sphere of `radius` pressed `indentation` into it (`skin`: a
+    :class:`~hapticsim.perception.tactile.skin.SkinModel`)."""
+    _check(skin.modulus, 0.0, radius, indentation)
+    return ContactSolution(
+        force=skin.sphere_force(radius, indentation),
+        contact_radius=math.sqrt(2.0 * radius * indentation),
+        peak_pressure=float(skin.pressure(indentation)),
+    )  # fmt: skip
+
+
+def _graded(stop: float, fine_to: float, step: float, growth: float = 1.2) -> Array:
+    """Nodes from 0 to `stop`: `step` apart up to `fine_to`, then each `growth` times the last."""
+    nodes = list(np.arange(0.0, min(fine_to, stop), step)) + [min(fine_to, stop)]
+    while nodes[-1] < stop:
+        step *= growth
+        nodes.append(min(stop, nodes[-1] + step))
+    return np.array(nodes)
+
+
+def _fem() -> Any:
+    try:
+        import skfem
+    except ImportError as exc:
+        raise InvalidInputError(
+            'the FE contact solutions need scikit-fem: pip install -e ".[fem]"'
+        ) from exc
+    return skfem
+
+
+def _solve(
+    mesh: Any, modulus: float, poisson: float, fixed: Callable[[Array], Array],
+    surface: Callable[[Array], Array], gap: Callable[[Array, Array], Array], sign: float,
+    probe: Callable[[Array], Array], probe_radii: Array,
+) -> ContactSolution:  # fmt: skip
+    """Axisymmetric linear elasticity on `mesh` (x = r, y = z) with frictionless contact.
+
+    `fixed` (facet midpoints -> bool) is bonded (no displacement); the axis has no radial
+    displacement; on the `surface` facets the vertical displacement of a node at (r, z) must not
+    pass ``gap(r, z)`` (``sign`` +1: at least it, the obstacle below pushing up; -1: at most it,
+    the obstacle above pushing down); the surface pressure is probed at ``probe(radii)``.
+    """
+    skfem = _fem()
+    from skfem.helpers import grad
+
+    lam = modulus * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
+    mu = modulus / (2.0 * (1.0 + poisson))
+    basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
+
+    def strains(u: Any, r: Array) -> tuple[Any, ...]:
+        g = grad(u)  # g[i][j] = d u_i / d x_j
+        return g[0][0], g[1][1], u[0] / r, 0.5 * (g[0][1] + g[1][0])
+
+    @skfem.BilinearForm
+    def stiffness(u: Any, v: Any, w: Any) -> Any:
+        r = w.x[0]
+        eu, ev = strains(u, r), strains(v, r)
+        tu, tv = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
+        shear = eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2] + 2.0 * eu[3] * ev[3]
+        return (lam * tu * tv + 2.0 * mu * shear) * r  # per radian of the revolution
+
+    k = skfem.asm(stiffness, basis)
+    bonded = basis.get_dofs(fixed).all()
+    axis = basis.get_dofs(lambda x: x[0] < 1e-12).all("u^1")
+    top = basis.get_dofs(surface).all("u^2")
+    r_s, z_s = basis.doflocs[:, top]
+    target = gap(r_s, z_s)
+    active = sign * target > 0.0
+    zero = np.zeros(k.shape[0])
+    for _ in range(MAX_PASSES):
+        prescribed = np.zeros(k.shape[0])
+        prescribed[top[active]] = target[active]
+        dofs = np.unique(np.concatenate([bonded, axis, top[active]]))
+        u = skfem.solve(*skfem.condense(k, zero, x=prescribed, D=dofs))
+        reaction = sign * (k @ u)[top]  # > 0: the obstacle pushes; < 0 it would pull
+        release = active & (reaction < 0.0)
+        enter = ~active & (sign * (target - u[top]) > 1e-15)
+        if not release.any() and not enter.any():
+            break
+        active = (active & ~release) | enter
+    else:
+        raise InvalidInputError("the FE contact's active set did not settle")
+    inside = float(r_s[active].max()) if active.any() else 0.0
+    beyond = r_s[~active & (r_s > inside)]
+    edge = 0.5 * (inside + float(beyond.min())) if len(beyond) else inside
+    # surface pressure: sigma_zz projected onto quadratic triangles and probed under the surface
+    scalar = basis.with_element(skfem.ElementTriP2())
+    field = basis.interpolate(u)
+    g = grad(field)
+    r_q = np.asarray(basis.global_coordinates())[0]
+    szz = lam * (g[0][0] + g[1][1] + np.asarray(field[0]) / r_q) + 2.0 * mu * g[1][1]
+    stress = scalar.project(szz)
+    pressure = -(scalar.probes(probe(probe_radii)) @ stress)  # compression is negative
+    return ContactSolution(
+        force=float(2.0 * np.pi * np.sum(reaction[active])), contact_radius=edge,
+        peak_pressure=float(pressure[0]), radii=probe_radii, pressure=pressure,
+    )  # fmt: skip
+
+
+def fem_layer_press(modulus: float, poisson: float, thickness: float, radius: float,
+                    indentation: float, resolution: int = 24) -> ContactSolution:  # fmt: skip
+    """A flat layer (`thickness` [m], bonded to a rigid base) under a rigid sphere of `radius`
+    pressed `indentation` into it; FE (module docstring), `resolution` elements across the
+    expected contact radius. The layer reaches 20 thicknesses or 20 contact radii out."""
+    _check(modulus, poisson, radius, indentation)
+    finite_float(thickness, "thickness", low=1e-7, high=1.0)
+    skfem = _fem()
+    a = math.sqrt(2.0 * radius * indentation)  # the larger of Hertz's and Winkler's
+    step = 1.5 * a / int(resolution)
+    r = _graded(max(20.0 * thickness, 20.0 * a), 1.5 * a, step)
+    z = np.sort(thickness - _graded(thickness, 1.5 * a, step))
+    mesh = skfem.MeshTri.init_tensor(r, z)
+    tol = 1e-3 * min(thickness, step)
+    return _solve(
+        mesh, modulus, poisson,
+        fixed=lambda x: x[1] < tol,
+        surface=lambda x: x[1] > thickness - tol,
+        gap=lambda rr, zz: radius - np.sqrt(np.maximum(radius**2 - rr**2, 0.0)) - indentation,
+        sign=-1.0,
+        probe=lambda q: np.vstack([q, np.full_like(q, thickness - 0.005 * min(thickness, a))]),
+        probe_radii=np.linspace(0.0, 1.3 * a, 53),
+    )  # fmt: skip
+
+
+def fem_pad_press(modulus: float, poisson: float, radius: float, thickness: float,
+                  indentation: float, resolution: int = 24) -> ContactSolution:  # fmt: skip
+    """A fingertip pad: a layer of `thickness` [m] bonded on a rigid spherical core, its outer
+    surface a sphere of `radius` [m], pressed `indentation` onto a rigid flat; FE (module
+    docstring), `resolution` elements across the expected contact radius."""
+    _check(modulus, poisson, radius, indentation)
+    finite_float(thickness, "thickness", low=1e-7, high=radius)
+    skfem = _fem()
+    a = math.sqrt(2.0 * radius * indentation)
+    fine = min(math.pi / 2.0, 1.6 * a / radius)
+    theta = _graded(math.pi / 2.0, fine, fine / int(resolution))
+    depth = _graded(thickness, thickness, min(thickness, fine * radius) / max(6, resolution // 2))
+    grid = skfem.MeshTri.init_tensor(theta, np.sort(radius - depth))
+    t, rho = grid.p
+    # polar angle from the -z axis; the orientation of the triangles kept
+    mesh = skfem.MeshTri(np.vstack([rho * np.sin(t), -rho * np.cos(t)]), grid.t[[1, 0, 2]])
+    tol = 0.01 * thickness  # facet midpoints of the curved boundaries lie on chords
+
+    def distance(x: Array) -> Array:
+        return np.hypot(x[0], x[1])
+
+    under = radius - 0.005 * min(thickness, a)
+    return _solve(
+        mesh, modulus, poisson,
+        fixed=lambda x: distance(x) < radius - thickness + tol,
+        surface=lambda x: distance(x) > radius - tol,
+        gap=lambda rr, zz: -(radius - indentation) - zz,
+        sign=1.0,
+        probe=lambda q: np.vstack([q, -np.sqrt(np.maximum(under**2 - q**2, 0.0))]),
+        probe_radii=np.linspace(0.0, 1.3 * a, 53),
+    )  # fmt: skip
+
+
+__all__ = [
+    "ContactSolution", "fem_layer_press", "fem_pad_press", "hertz_sphere", "winkler_sphere",
+]  # fmt: skip

@@ -1,0 +1,126 @@
+"""The skin's law against an elastic layer (issue 38, item 3): docs/tactile/mechanics/README.md.
+
+    python scripts/skin_mechanics.py --out docs/tactile/mechanics/mechanics.json \
+        --figure docs/tactile/mechanics/mechanics.png
+
+For the built-in hand's fingertip pad (a 2 mm layer on a sphere of 8 mm, both skin presets'
+thickness; the presets differ in Young's modulus only, which every ratio here is free of), pressed
+0.1-1 mm onto a rigid flat: the skin's Winkler law (force, contact radius, centre pressure)
+against the finite-element solution of the same pad (hapticsim.perception.tactile.mechanics) for
+Poisson's ratios 0 (the Winkler law's own assumption), 0.3, 0.45 and 0.49 (silicone elastomers:
+0.45-0.5); and the FE's own check against Hertz's solution (a 6 mm layer) at two resolutions.
+Prints JSON (and writes it with --out); --figure draws the pressure profiles at 0.5 mm.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+from hapticsim.constants import FINGERTIP_RADIUS
+from hapticsim.perception.tactile.mechanics import (
+    fem_pad_press,
+    hertz_sphere,
+    winkler_sphere,
+)
+from hapticsim.perception.tactile.presets import load_skin
+from hapticsim.perception.tactile.skin import SkinModel
+
+POISSON = (0.0, 0.3, 0.45, 0.49)
+INDENTATIONS = (1e-4, 2.5e-4, 5e-4, 1e-3)  # [m]
+
+
+def table(resolution: int = 48) -> dict[str, Any]:
+    """The rows of the module docstring."""
+    vision = load_skin("vision").skin
+    capacitive = load_skin("capacitive").skin
+    assert vision.thickness == capacitive.thickness  # the ratios below hold for both
+    skin = SkinModel(vision.modulus, vision.thickness)
+    radius = FINGERTIP_RADIUS
+    rows = []
+    for nu in POISSON:
+        for delta in INDENTATIONS:
+            fe = fem_pad_press(skin.modulus, nu, radius, skin.thickness, delta, resolution)
+            w = winkler_sphere(skin, radius, delta)
+            sys.stderr.write(f"nu {nu} delta {delta * 1e3:.2f} mm: skin/FE force "
+                             f"{w.force / fe.force:.3f}\n")  # fmt: skip
+            rows.append({
+                "poisson": nu, "indentation_mm": delta * 1e3,
+                "fe": {"force_n": fe.force, "contact_radius_mm": fe.contact_radius * 1e3,
+                       "peak_pressure_kpa": fe.peak_pressure / 1e3},
+                "skin": {"force_n": w.force, "contact_radius_mm": w.contact_radius * 1e3,
+                         "peak_pressure_kpa": w.peak_pressure / 1e3},
+                "skin_over_fe": {"force": w.force / fe.force,
+                                 "contact_radius": w.contact_radius / fe.contact_radius,
+                                 "peak_pressure": w.peak_pressure / fe.peak_pressure},
+            })  # fmt: skip
+    checks = []
+    for res in (24, resolution):
+        for delta in (1e-5, 2e-5):
+            ref = hertz_sphere(skin.modulus, 0.3, radius, delta)
+            fe = fem_pad_press(skin.modulus, 0.3, radius, 0.006, delta, res)
+            checks.append({
+                "resolution": res, "indentation_mm": delta * 1e3, "thickness_mm": 6.0,
+                "fe_over_hertz": {"force": fe.force / ref.force,
+                                  "contact_radius": fe.contact_radius / ref.contact_radius,
+                                  "peak_pressure": fe.peak_pressure / ref.peak_pressure},
+            })  # fmt: skip
+    return {"pad_radius_mm": radius * 1e3, "thickness_mm": skin.thickness * 1e3,
+            "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
+            "resolution": resolution, "rows": rows, "hertz_check": checks}  # fmt: skip
+
+
+def figure(path: str, resolution: int = 48) -> None:
+    """Pressure profiles at 0.5 mm: the skin's law against the FE pad for each Poisson ratio."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    skin = load_skin("vision").skin
+    delta, radius = 5e-4, FINGERTIP_RADIUS
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
+    r = np.linspace(0.0, 1.3 * np.sqrt(2 * radius * delta), 200)
+    winkler = skin.modulus / skin.thickness * np.maximum(delta - r**2 / (2 * radius), 0.0)
+    ax.plot(r * 1e3, winkler / 1e3, "k--", label="skin (Winkler, p = E d / h)")
+    for nu in POISSON:
+        fe = fem_pad_press(skin.modulus, nu, radius, skin.thickness, delta, resolution)
+        ax.plot(fe.radii * 1e3, fe.pressure / 1e3, label=f"elastic pad, FE, nu = {nu}")
+    ax.set_xlabel("distance from the centre of the contact [mm]")
+    ax.set_ylabel("pressure [kPa]")
+    ax.set_title("Fingertip pad (8 mm, 2 mm layer, E = 0.2 MPa) pressed 0.5 mm onto a flat",
+                 fontsize=9)  # fmt: skip
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--out", default=None)
+    parser.add_argument("--figure", default=None)
+    parser.add_argument("--resolution", type=int, default=48)
+    args = parser.parse_args()
+    start = time.perf_counter()
+    result = table(args.resolution)
+    result["seconds"] = time.perf_counter() - start
+    text = json.dumps(result, indent=1)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text + "\n")
+    if args.figure:
+        figure(args.figure, args.resolution)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
