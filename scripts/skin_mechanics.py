@@ -9,6 +9,8 @@ thickness; the presets differ in Young's modulus only, which every ratio here is
 against the finite-element solution of the same pad (hapticsim.perception.tactile.mechanics) for
 Poisson's ratios 0 (the Winkler law's own assumption), 0.3, 0.45 and 0.49 (silicone elastomers:
 0.45-0.5); and the FE's own check against Hertz's solution (a 6 mm layer) at two resolutions.
+Then the law with the layer's lateral coupling (``layer_pressure``, a 0.1 mm grid) and the
+Winkler law against the FE for a sphere of 8 mm pressed into a flat 2 mm pad.
 Prints JSON (and writes it with --out); --figure draws the pressure profiles at 0.5 mm.
 """
 
@@ -27,8 +29,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.perception.tactile.mechanics import (
+    fem_layer_press,
     fem_pad_press,
     hertz_sphere,
+    layer_pressure,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.presets import load_skin
@@ -73,9 +77,37 @@ def table(resolution: int = 48) -> dict[str, Any]:
                                   "contact_radius": fe.contact_radius / ref.contact_radius,
                                   "peak_pressure": fe.peak_pressure / ref.peak_pressure},
             })  # fmt: skip
+    layer = []
+    spacing = 1e-4
+    for nu in POISSON:
+        for delta in INDENTATIONS:
+            half = 1.3 * np.sqrt(2 * radius * delta)
+            n = int(np.ceil(2 * half / spacing)) | 1
+            k = (np.arange(n) - n // 2) * spacing
+            x, y = np.meshgrid(k, k)
+            depth = delta - (radius - np.sqrt(np.maximum(radius**2 - x**2 - y**2, 0.0)))
+            clock = time.perf_counter()
+            p = layer_pressure(depth, spacing, skin.modulus, nu, skin.thickness)
+            seconds = time.perf_counter() - clock
+            fe = fem_layer_press(skin.modulus, nu, skin.thickness, radius, delta, resolution)
+            w = winkler_sphere(skin, radius, delta)
+            law = {"force": float(p.sum() * spacing**2),
+                   "contact_radius": float(np.sqrt((p > 0).sum() * spacing**2 / np.pi)),
+                   "peak_pressure": float(p[n // 2, n // 2])}  # fmt: skip
+            ref = {"force": fe.force, "contact_radius": fe.contact_radius,
+                   "peak_pressure": fe.peak_pressure}  # fmt: skip
+            wink = {"force": w.force, "contact_radius": w.contact_radius,
+                    "peak_pressure": w.peak_pressure}  # fmt: skip
+            layer.append({
+                "poisson": nu, "indentation_mm": delta * 1e3, "grid_mm": spacing * 1e3,
+                "fe_force_n": fe.force, "seconds": seconds,
+                "layer_over_fe": {k: law[k] / ref[k] for k in ref},
+                "winkler_over_fe": {k: wink[k] / ref[k] for k in ref},
+            })  # fmt: skip
     return {"pad_radius_mm": radius * 1e3, "thickness_mm": skin.thickness * 1e3,
             "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
-            "resolution": resolution, "rows": rows, "hertz_check": checks}  # fmt: skip
+            "resolution": resolution, "rows": rows, "hertz_check": checks,
+            "flat_pad": layer}  # fmt: skip
 
 
 def figure(path: str, resolution: int = 48) -> None:

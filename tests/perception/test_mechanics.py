@@ -14,6 +14,9 @@ from hapticsim.perception.tactile.mechanics import (
     fem_layer_press,
     fem_pad_press,
     hertz_sphere,
+    layer_forces,
+    layer_kernel,
+    layer_pressure,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.skin import SkinModel
@@ -104,3 +107,49 @@ def test_a_press_is_monotonic_and_the_pressure_positive_inside_the_contact() -> 
     for p in presses:
         inside = p.radii < 0.9 * p.contact_radius
         assert np.all(p.pressure[inside] > 0)
+
+
+def _sphere_depth(radius: float, delta: float, spacing: float) -> np.ndarray:
+    half = 1.3 * math.sqrt(2 * radius * delta)
+    n = int(np.ceil(2 * half / spacing)) | 1
+    k = (np.arange(n) - n // 2) * spacing
+    x, y = np.meshgrid(k, k)
+    return delta - (radius - np.sqrt(np.maximum(radius**2 - x**2 - y**2, 0.0)))
+
+
+@pytest.mark.parametrize("delta", [1e-4, 1e-3])
+def test_the_layer_law_is_the_fe_layer_for_a_sphere_in_a_flat_pad(delta: float) -> None:
+    _skfem()
+    spacing, radius = 1e-4, 0.008
+    depth = _sphere_depth(radius, delta, spacing)
+    pressure = layer_pressure(depth, spacing, 2e5, 0.49, 0.002)
+    fe = fem_layer_press(2e5, 0.49, 0.002, radius, delta)
+    n = len(depth)
+    # measured: force +1.5-1.7 %, contact radius -0.8 to -1.8 %, peak pressure +2.5 %
+    assert pressure.sum() * spacing**2 == pytest.approx(fe.force, rel=0.05)
+    contact = math.sqrt((pressure > 0).sum() * spacing**2 / math.pi)
+    assert contact == pytest.approx(fe.contact_radius, rel=0.05)
+    assert pressure[n // 2, n // 2] == pytest.approx(fe.peak_pressure, rel=0.05)
+
+
+def test_the_layer_law_is_a_contact_solution() -> None:
+    _skfem()
+    kernel = layer_kernel(2e5, 0.45, 0.002, 2e-4)
+    depth = _sphere_depth(0.008, 3e-4, 2e-4)
+    forces = layer_forces(depth, kernel)
+    assert np.all(forces >= 0)  # no cell pulls
+    rows, cols = depth.shape
+    sink = np.fft.irfft2(np.fft.rfft2(forces, (2 * rows, 2 * cols)) * kernel.spectrum(rows, cols),
+                         (2 * rows, 2 * cols))[:rows, :cols]  # fmt: skip
+    loaded = forces > 0
+    assert np.all(sink >= depth - 1e-3 * depth.max())  # the surface stays out of the object
+    assert np.abs(sink[loaded] - depth[loaded]).max() < 1e-3 * depth.max()  # and meets it
+    # stepped presses give rising force; a flat face lights every cell it covers
+    totals = [layer_forces(_sphere_depth(0.008, d, 2e-4), kernel).sum() for d in (1e-4, 2e-4,
+                                                                               4e-4)]  # fmt: skip
+    assert totals == sorted(totals) and totals[0] > 0
+    flat = np.full((21, 21), -1e-4)
+    flat[5:16, 5:16] = 2e-4
+    assert np.all(layer_forces(flat, kernel)[5:16, 5:16] > 0)
+    with pytest.raises(InvalidInputError, match="finite"):
+        layer_forces(np.full((3, 3), np.nan), kernel)
