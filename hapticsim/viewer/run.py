@@ -121,7 +121,8 @@ def object_motion(run: RunData) -> np.ndarray | None:
     states (``object_motion.rest_pose``); None for a fixed object or an older run."""
     from hapticsim.fitting.track import true_poses
 
-    rest = run.metrics.get("object_motion", {}).get("rest_pose")
+    motion = run.metrics.get("object_motion")
+    rest = motion.get("rest_pose") if isinstance(motion, dict) else None
     if run.object_pose is None or rest is None:
         return None
     rest = np.asarray(rest, dtype=np.float64)

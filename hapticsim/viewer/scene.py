@@ -69,6 +69,7 @@ class RunScene:
         self._taxel_node: Any = None
         self._taxel_shown = -1
         self._shown: dict[int, bool] = {}  # node id -> visibility sent (send changes only)
+        self._truth_moved = False
         truth = run.truth
         lo, hi = truth.bounds
         self.center = (lo + hi) / 2.0
@@ -159,10 +160,15 @@ class RunScene:
         label's words for how far that is from rest ('' for a fixed object)."""
         pose = state.object_pose
         if pose is None:
+            if self._truth_moved:  # back to a state before the first contact: at rest
+                for node in self._truth_nodes:
+                    node.position, node.wxyz = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)
+                self._truth_moved = False
             return ""
         for node in self._truth_nodes:
             node.position = pose[:3]
             node.wxyz = pose[3:]
+        self._truth_moved = True
         from hapticsim.fitting.track import pose_drift
 
         rest = pose_drift(pose, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), self.center)

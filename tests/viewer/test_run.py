@@ -159,6 +159,9 @@ def test_a_free_object_moves_in_the_replay_as_it_moved_in_the_run(free_run: Path
     np.testing.assert_allclose(truth.position, motion[-1][:3])
     np.testing.assert_allclose(truth.wxyz, motion[-1][3:])
     assert "the object moved" in scene.nodes["/status"].text
+    view.show(0)  # back before the first contact: the object at rest again
+    np.testing.assert_allclose(truth.position, 0.0)
+    np.testing.assert_allclose(truth.wxyz, [1.0, 0.0, 0.0, 0.0])
 
 
 def test_a_fixed_run_draws_its_truth_where_it_stands(run_dir: Path) -> None:
