@@ -10,7 +10,9 @@ against the finite-element solution of the same pad (hapticsim.perception.tactil
 Poisson's ratios 0 (the Winkler law's own assumption), 0.3, 0.45 and 0.49 (silicone elastomers:
 0.45-0.5); and the FE's own check against Hertz's solution (a 6 mm layer) at two resolutions.
 Then the law with the layer's lateral coupling (``layer_pressure``, a 0.1 mm grid) and the
-Winkler law against the FE for a sphere of 8 mm pressed into a flat 2 mm pad.
+Winkler law against the FE for a sphere of 8 mm pressed into a flat 2 mm pad, and, held out
+(none of it was looked at while the law was written), spheres of 4 and 15 mm in 1 and 3 mm
+layers and flat-ended punches; the FE punch against Boussinesq's half-space solution.
 Prints JSON (and writes it with --out); --figure draws the pressure profiles at 0.5 mm.
 """
 
@@ -31,8 +33,10 @@ from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.perception.tactile.mechanics import (
     fem_layer_press,
     fem_pad_press,
+    fem_punch_press,
     hertz_sphere,
     layer_pressure,
+    punch_half_space,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.presets import load_skin
@@ -104,10 +108,71 @@ def table(resolution: int = 48) -> dict[str, Any]:
                 "layer_over_fe": {k: law[k] / ref[k] for k in ref},
                 "winkler_over_fe": {k: wink[k] / ref[k] for k in ref},
             })  # fmt: skip
+    return {**_header(skin, vision, capacitive, radius, resolution), "rows": rows,
+            "hertz_check": checks, "flat_pad": layer, "held_out": held_out(skin.modulus),
+            "boussinesq_check": boussinesq(skin.modulus)}  # fmt: skip
+
+
+def _header(skin: SkinModel, vision: Any, capacitive: Any, radius: float,
+            resolution: int) -> dict[str, Any]:  # fmt: skip
     return {"pad_radius_mm": radius * 1e3, "thickness_mm": skin.thickness * 1e3,
             "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
-            "resolution": resolution, "rows": rows, "hertz_check": checks,
-            "flat_pad": layer}  # fmt: skip
+            "resolution": resolution}  # fmt: skip
+
+
+def _grid(half: float, spacing: float) -> tuple[int, np.ndarray]:
+    n = int(np.ceil(2 * half / spacing)) | 1
+    k = (np.arange(n) - n // 2) * spacing
+    x, y = np.meshgrid(k, k)
+    return n, np.hypot(x, y)
+
+
+def held_out(modulus: float, spacing: float = 1e-4) -> list[dict[str, Any]]:
+    """The layer law and the Winkler law against the FE on geometries not looked at before."""
+    out = []
+    for radius, h in ((0.004, 0.001), (0.004, 0.003), (0.015, 0.001), (0.015, 0.003)):
+        for nu in (0.45, 0.49):
+            for delta in (0.1 * h, 0.4 * h):
+                n, r = _grid(1.3 * np.sqrt(2 * radius * delta), spacing)
+                depth = delta - (radius - np.sqrt(np.maximum(radius**2 - r**2, 0.0)))
+                p = layer_pressure(depth, spacing, modulus, nu, h)
+                fe = fem_layer_press(modulus, nu, h, radius, delta, 48)
+                w = winkler_sphere(SkinModel(modulus, h), radius, delta)
+                out.append({
+                    "indenter": f"sphere, R = {radius * 1e3:g} mm", "thickness_mm": h * 1e3,
+                    "poisson": nu, "indentation_mm": delta * 1e3,
+                    "layer_over_fe": {
+                        "force": float(p.sum() * spacing**2 / fe.force),
+                        "contact_radius": float(np.sqrt((p > 0).sum() * spacing**2 / np.pi)
+                                                / fe.contact_radius),
+                        "peak_pressure": float(p[n // 2, n // 2] / fe.peak_pressure)},
+                    "winkler_over_fe": {"force": w.force / fe.force},
+                })  # fmt: skip
+    for punch, h in ((0.0015, 0.002), (0.003, 0.001)):
+        for nu in (0.45, 0.49):
+            delta = 0.1 * h
+            n, r = _grid(1.5 * punch, spacing)
+            p = layer_pressure(np.where(r <= punch, delta, -1.0), spacing, modulus, nu, h)
+            fe = fem_punch_press(modulus, nu, h, punch, delta, 48)
+            out.append({
+                "indenter": f"flat punch, a = {punch * 1e3:g} mm", "thickness_mm": h * 1e3,
+                "poisson": nu, "indentation_mm": delta * 1e3,
+                "layer_over_fe": {"force": float(p.sum() * spacing**2 / fe.force),
+                                  "centre_pressure": float(p[n // 2, n // 2] / fe.peak_pressure)},
+                "winkler_over_fe": {"force": modulus / h * delta * np.pi * punch**2 / fe.force},
+            })  # fmt: skip
+    return out
+
+
+def boussinesq(modulus: float) -> list[dict[str, Any]]:
+    """The FE flat punch on a layer 60 punch radii thick against Boussinesq's half-space."""
+    out = []
+    for res in (24, 48):
+        ref = punch_half_space(modulus, 0.3, 1e-3, 1e-5)
+        fe = fem_punch_press(modulus, 0.3, 0.06, 1e-3, 1e-5, res)
+        out.append({"resolution": res, "force": fe.force / ref.force,
+                    "centre_pressure": fe.peak_pressure / ref.peak_pressure})  # fmt: skip
+    return out
 
 
 def figure(path: str, resolution: int = 48) -> None:
