@@ -31,12 +31,15 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.perception.tactile.mechanics import (
+    ContactSolution,
     fem_layer_press,
     fem_pad_press,
     fem_punch_press,
+    grid_radii,
     hertz_sphere,
     layer_pressure,
     punch_half_space,
+    sphere_depth,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.presets import load_skin
@@ -51,7 +54,7 @@ def table(resolution: int = 48) -> dict[str, Any]:
     vision = load_skin("vision").skin
     capacitive = load_skin("capacitive").skin
     assert vision.thickness == capacitive.thickness  # the ratios below hold for both
-    skin = SkinModel(vision.modulus, vision.thickness)
+    skin = vision
     radius = FINGERTIP_RADIUS
     rows = []
     for nu in POISSON:
@@ -85,46 +88,38 @@ def table(resolution: int = 48) -> dict[str, Any]:
     spacing = 1e-4
     for nu in POISSON:
         for delta in INDENTATIONS:
-            half = 1.3 * np.sqrt(2 * radius * delta)
-            n = int(np.ceil(2 * half / spacing)) | 1
-            k = (np.arange(n) - n // 2) * spacing
-            x, y = np.meshgrid(k, k)
-            depth = delta - (radius - np.sqrt(np.maximum(radius**2 - x**2 - y**2, 0.0)))
             clock = time.perf_counter()
-            p = layer_pressure(depth, spacing, skin.modulus, nu, skin.thickness)
+            p = layer_pressure(sphere_depth(radius, delta, spacing), spacing, skin.modulus, nu,
+                               skin.thickness)  # fmt: skip
             seconds = time.perf_counter() - clock
             fe = fem_layer_press(skin.modulus, nu, skin.thickness, radius, delta, resolution)
             w = winkler_sphere(skin, radius, delta)
-            law = {"force": float(p.sum() * spacing**2),
-                   "contact_radius": float(np.sqrt((p > 0).sum() * spacing**2 / np.pi)),
-                   "peak_pressure": float(p[n // 2, n // 2])}  # fmt: skip
-            ref = {"force": fe.force, "contact_radius": fe.contact_radius,
-                   "peak_pressure": fe.peak_pressure}  # fmt: skip
-            wink = {"force": w.force, "contact_radius": w.contact_radius,
-                    "peak_pressure": w.peak_pressure}  # fmt: skip
             layer.append({
                 "poisson": nu, "indentation_mm": delta * 1e3, "grid_mm": spacing * 1e3,
                 "fe_force_n": fe.force, "seconds": seconds,
-                "layer_over_fe": {k: law[k] / ref[k] for k in ref},
-                "winkler_over_fe": {k: wink[k] / ref[k] for k in ref},
+                "layer_over_fe": _over(_measures(p, spacing), fe),
+                "winkler_over_fe": _over(w, fe),
             })  # fmt: skip
-    return {**_header(skin, vision, capacitive, radius, resolution), "rows": rows,
-            "hertz_check": checks, "flat_pad": layer, "held_out": held_out(skin.modulus),
-            "boussinesq_check": boussinesq(skin.modulus)}  # fmt: skip
-
-
-def _header(skin: SkinModel, vision: Any, capacitive: Any, radius: float,
-            resolution: int) -> dict[str, Any]:  # fmt: skip
     return {"pad_radius_mm": radius * 1e3, "thickness_mm": skin.thickness * 1e3,
             "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
-            "resolution": resolution}  # fmt: skip
+            "resolution": resolution, "rows": rows, "hertz_check": checks, "flat_pad": layer,
+            "held_out": held_out(skin.modulus), "boussinesq_check": boussinesq(skin.modulus)}
 
 
-def _grid(half: float, spacing: float) -> tuple[int, np.ndarray]:
-    n = int(np.ceil(2 * half / spacing)) | 1
-    k = (np.arange(n) - n // 2) * spacing
-    x, y = np.meshgrid(k, k)
-    return n, np.hypot(x, y)
+def _measures(pressure: np.ndarray, spacing: float) -> ContactSolution:
+    """A pressure image's force, contact radius (of the area it covers) and centre pressure."""
+    n = len(pressure)
+    return ContactSolution(
+        force=float(pressure.sum() * spacing**2),
+        contact_radius=float(np.sqrt((pressure > 0).sum() * spacing**2 / np.pi)),
+        peak_pressure=float(pressure[n // 2, n // 2]),
+    )  # fmt: skip
+
+
+def _over(law: ContactSolution, ref: ContactSolution) -> dict[str, float]:
+    return {"force": law.force / ref.force,
+            "contact_radius": law.contact_radius / ref.contact_radius,
+            "peak_pressure": law.peak_pressure / ref.peak_pressure}  # fmt: skip
 
 
 def held_out(modulus: float, spacing: float = 1e-4) -> list[dict[str, Any]]:
@@ -133,32 +128,27 @@ def held_out(modulus: float, spacing: float = 1e-4) -> list[dict[str, Any]]:
     for radius, h in ((0.004, 0.001), (0.004, 0.003), (0.015, 0.001), (0.015, 0.003)):
         for nu in (0.45, 0.49):
             for delta in (0.1 * h, 0.4 * h):
-                n, r = _grid(1.3 * np.sqrt(2 * radius * delta), spacing)
-                depth = delta - (radius - np.sqrt(np.maximum(radius**2 - r**2, 0.0)))
-                p = layer_pressure(depth, spacing, modulus, nu, h)
+                p = layer_pressure(sphere_depth(radius, delta, spacing), spacing, modulus, nu, h)
                 fe = fem_layer_press(modulus, nu, h, radius, delta, 48)
                 w = winkler_sphere(SkinModel(modulus, h), radius, delta)
                 out.append({
                     "indenter": f"sphere, R = {radius * 1e3:g} mm", "thickness_mm": h * 1e3,
                     "poisson": nu, "indentation_mm": delta * 1e3,
-                    "layer_over_fe": {
-                        "force": float(p.sum() * spacing**2 / fe.force),
-                        "contact_radius": float(np.sqrt((p > 0).sum() * spacing**2 / np.pi)
-                                                / fe.contact_radius),
-                        "peak_pressure": float(p[n // 2, n // 2] / fe.peak_pressure)},
+                    "layer_over_fe": _over(_measures(p, spacing), fe),
                     "winkler_over_fe": {"force": w.force / fe.force},
                 })  # fmt: skip
     for punch, h in ((0.0015, 0.002), (0.003, 0.001)):
         for nu in (0.45, 0.49):
             delta = 0.1 * h
-            n, r = _grid(1.5 * punch, spacing)
+            r = grid_radii(1.5 * punch, spacing)
             p = layer_pressure(np.where(r <= punch, delta, -1.0), spacing, modulus, nu, h)
             fe = fem_punch_press(modulus, nu, h, punch, delta, 48)
+            law = _measures(p, spacing)
             out.append({
                 "indenter": f"flat punch, a = {punch * 1e3:g} mm", "thickness_mm": h * 1e3,
                 "poisson": nu, "indentation_mm": delta * 1e3,
-                "layer_over_fe": {"force": float(p.sum() * spacing**2 / fe.force),
-                                  "centre_pressure": float(p[n // 2, n // 2] / fe.peak_pressure)},
+                "layer_over_fe": {"force": law.force / fe.force,
+                                  "centre_pressure": law.peak_pressure / fe.peak_pressure},
                 "winkler_over_fe": {"force": modulus / h * delta * np.pi * punch**2 / fe.force},
             })  # fmt: skip
     return out

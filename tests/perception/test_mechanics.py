@@ -14,11 +14,13 @@ from hapticsim.perception.tactile.mechanics import (
     fem_layer_press,
     fem_pad_press,
     fem_punch_press,
+    grid_radii,
     hertz_sphere,
     layer_forces,
     layer_kernel,
     layer_pressure,
     punch_half_space,
+    sphere_depth,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.skin import SkinModel
@@ -111,19 +113,11 @@ def test_a_press_is_monotonic_and_the_pressure_positive_inside_the_contact() -> 
         assert np.all(p.pressure[inside] > 0)
 
 
-def _sphere_depth(radius: float, delta: float, spacing: float) -> np.ndarray:
-    half = 1.3 * math.sqrt(2 * radius * delta)
-    n = int(np.ceil(2 * half / spacing)) | 1
-    k = (np.arange(n) - n // 2) * spacing
-    x, y = np.meshgrid(k, k)
-    return delta - (radius - np.sqrt(np.maximum(radius**2 - x**2 - y**2, 0.0)))
-
-
 @pytest.mark.parametrize("delta", [1e-4, 1e-3])
 def test_the_layer_law_is_the_fe_layer_for_a_sphere_in_a_flat_pad(delta: float) -> None:
     _skfem()
     spacing, radius = 1e-4, 0.008
-    depth = _sphere_depth(radius, delta, spacing)
+    depth = sphere_depth(radius, delta, spacing)
     pressure = layer_pressure(depth, spacing, 2e5, 0.49, 0.002)
     fe = fem_layer_press(2e5, 0.49, 0.002, radius, delta)
     n = len(depth)
@@ -137,7 +131,7 @@ def test_the_layer_law_is_the_fe_layer_for_a_sphere_in_a_flat_pad(delta: float) 
 def test_the_layer_law_is_a_contact_solution() -> None:
     _skfem()
     kernel = layer_kernel(2e5, 0.45, 0.002, 2e-4)
-    depth = _sphere_depth(0.008, 3e-4, 2e-4)
+    depth = sphere_depth(0.008, 3e-4, 2e-4)
     forces = layer_forces(depth, kernel)
     assert np.all(forces >= 0)  # no cell pulls
     rows, cols = depth.shape
@@ -147,7 +141,7 @@ def test_the_layer_law_is_a_contact_solution() -> None:
     assert np.all(sink >= depth - 1e-3 * depth.max())  # the surface stays out of the object
     assert np.abs(sink[loaded] - depth[loaded]).max() < 1e-3 * depth.max()  # and meets it
     # stepped presses give rising force; a flat face lights every cell it covers
-    totals = [layer_forces(_sphere_depth(0.008, d, 2e-4), kernel).sum() for d in (1e-4, 2e-4,
+    totals = [layer_forces(sphere_depth(0.008, d, 2e-4), kernel).sum() for d in (1e-4, 2e-4,
                                                                                4e-4)]  # fmt: skip
     assert totals == sorted(totals) and totals[0] > 0
     flat = np.full((21, 21), -1e-4)
@@ -165,9 +159,7 @@ def test_a_flat_punch_on_a_thick_layer_is_boussinesq_and_the_layer_law_holds_a_p
     assert fe.peak_pressure == pytest.approx(ref.peak_pressure, rel=0.03)  # measured +0.9 %
     # held out for the layer law: a 1.5 mm punch 0.2 mm into a 2 mm layer (measured +0.6 %)
     spacing, punch = 1e-4, 0.0015
-    n = int(np.ceil(3 * punch / spacing)) | 1
-    k = (np.arange(n) - n // 2) * spacing
-    r = np.hypot(*np.meshgrid(k, k))
+    r = grid_radii(1.5 * punch, spacing)
     pressure = layer_pressure(np.where(r <= punch, 2e-4, -1.0), spacing, 2e5, 0.49, 0.002)
     fe = fem_punch_press(2e5, 0.49, 0.002, punch, 2e-4)
     assert pressure.sum() * spacing**2 == pytest.approx(fe.force, rel=0.05)

@@ -395,6 +395,22 @@ def layer_forces(depth: Array, kernel: LayerKernel, tol: float = 1e-9,
     return forces
 
 
+def grid_radii(half_width: float, spacing: float) -> Array:
+    """(n, n) distances [m] from the centre of a square grid of `spacing` [m] and an odd side
+    of n cells reaching at least `half_width` [m] each way (a depth image's cells)."""
+    n = int(np.ceil(2.0 * half_width / spacing)) | 1
+    k = (np.arange(n) - n // 2) * spacing
+    x, y = np.meshgrid(k, k)
+    return np.hypot(x, y)
+
+
+def sphere_depth(radius: float, indentation: float, spacing: float) -> Array:
+    """The depth image [m] of a rigid sphere of `radius` pressed `indentation` into a flat pad,
+    on a grid of `spacing` (:func:`grid_radii`) reaching 1.3 Winkler contact radii out."""
+    r = grid_radii(1.3 * math.sqrt(2.0 * radius * indentation), spacing)
+    return indentation - (radius - np.sqrt(np.maximum(radius**2 - r**2, 0.0)))
+
+
 def layer_pressure(depth: Array, spacing: float, modulus: float, poisson: float,
                    thickness: float) -> Array:  # fmt: skip
     """Pressure [Pa] (rows, cols) of a `depth` image [m] on a grid of `spacing` [m] for a layer
@@ -406,6 +422,6 @@ def layer_pressure(depth: Array, spacing: float, modulus: float, poisson: float,
 
 __all__ = [
     "ContactSolution", "LayerKernel", "fem_layer_press", "fem_pad_press", "fem_punch_press",
-    "hertz_sphere", "layer_forces", "layer_kernel", "layer_pressure", "punch_half_space",
-    "winkler_sphere",
+    "grid_radii", "hertz_sphere", "layer_forces", "layer_kernel", "layer_pressure",
+    "punch_half_space", "sphere_depth", "winkler_sphere",
 ]  # fmt: skip
