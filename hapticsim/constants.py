@@ -43,3 +43,6 @@ SCORE_CHAMFER_POINTS: int = 128
 #: Fingertip radius [m] of hapticsim's own hand (``models/hand.xml``, class ``tip``): its MuJoCo
 #: fingertips, the analytic backend's tactile pads and the support's clearance.
 FINGERTIP_RADIUS: float = 0.008
+#: Coulomb friction of fingertip/object contacts (the MuJoCo scene's, the analytic backend's
+#: skin traction); contacts stay clean at <= 0.3.
+DEFAULT_FRICTION: float = 0.2

@@ -51,6 +51,8 @@ class RunData:
         metrics: ``metrics.json``.
         hand: ``hand.npz``'s arrays, or None (an older run).
         taxels: (n, rows, cols) pressure image of each contact's pad, or None.
+        taxel_state: (n, rows, cols) int8, that pad's taxel states (0 free, 1 stick, 2 slip;
+            SPEC §11), or None (a run from before the traction field).
         object_pose: (n, 7) a free object's body pose at each contact (position [m],
             quaternion w first; SPEC §12), or None for a fixed object.
         tracked: a tracking fit's poses (``fit.json``'s ``poses``, (n, 7), the estimate's frame
@@ -68,6 +70,7 @@ class RunData:
     metrics: dict[str, Any]
     hand: dict[str, np.ndarray] | None = None
     taxels: np.ndarray | None = None
+    taxel_state: np.ndarray | None = None
     object_pose: np.ndarray | None = None
     tracked: np.ndarray | None = None
 
@@ -124,16 +127,19 @@ def load_run(path: str | Path) -> RunData:
         tuple(str(s) for s in hand["finger_names"]) if hand is not None and "finger_names" in hand
         else tuple(f"finger {i}" for i in range(int(finger.max(initial=0)) + 1))
     )  # fmt: skip
-    taxels = None
+    taxels = states = None
     if (run / "tactile.npz").is_file():
         tactile = _read_npz(run / "tactile.npz")
         images = tactile.get("images")
         if images is not None and len(images) == n:
             taxels = images[np.arange(n), finger]
+        state = tactile.get("taxel_state")
+        if taxels is not None and state is not None and state.shape == images.shape:
+            states = state[np.arange(n), finger].astype(np.int8)
     return RunData(
         path=run, truth=truth, estimate=estimate, method=str(fit.get("method", "nH")),
         points=contacts.points, normals=contacts.normals, finger=finger, finger_names=names,
-        metrics=metrics, hand=hand, taxels=taxels,
+        metrics=metrics, hand=hand, taxels=taxels, taxel_state=states,
         object_pose=_poses(extra.get("object_pose"), n, f"{run}/contacts.npz: object_pose"),
         tracked=_poses(fit.get("poses"), n, f"{run}/fit.json: poses"),
     )  # fmt: skip

@@ -23,7 +23,11 @@ same action semantics as the MuJoCo hand (:mod:`hapticsim.envs.touch`):
   through the skin's sensor model and estimated
   (:func:`hapticsim.perception.tactile.estimate_contact`);
   the estimates replace the contacts (the ray cast's are kept as ``points_exact``), a contact
-  the pad does not feel is dropped, and the images of every pad are in the result.
+  the pad does not feel is dropped, and the images of every pad are in the result, with their
+  traction fields (:func:`hapticsim.perception.tactile.traction_field`, friction
+  :data:`~hapticsim.constants.DEFAULT_FRICTION`): a probe's press carries no tangential load
+  (every taxel in contact sticks), a stroke's later contacts slide (every taxel slips, its
+  traction ``mu p`` against the pad's motion).
 
 The backend is the simulator: it sees the ground truth, the environment's observation does not.
 """
@@ -39,14 +43,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.constants import FINGERTIP_RADIUS
+from hapticsim.constants import DEFAULT_FRICTION, FINGERTIP_RADIUS
 from hapticsim.envs.support import SUPPORTS, Support
 from hapticsim.envs.touch import Touch, TouchBackend, TouchResult
 from hapticsim.errors import ChoiceError, InvalidInputError
 from hapticsim.geometry import Superquadric
 from hapticsim.geometry.sections import section_walk
 from hapticsim.geometry.solid import Solid
-from hapticsim.perception.tactile import PadLayout, estimate_contact, load_skin
+from hapticsim.perception.tactile import PadLayout, estimate_contact, load_skin, traction_field
 from hapticsim.perception.tactile.pad import DEFAULT_PAD_GRID
 from hapticsim.perception.tactile.press import press
 from hapticsim.perception.tactile.skin import PROBE_FORCE
@@ -100,6 +104,8 @@ class AnalyticBackend(TouchBackend):
         if sensing not in ("exact", "tactile"):
             raise InvalidInputError(f"`sensing` must be exact or tactile, got {sensing!r}")
         self.sensing = sensing
+        #: Coulomb friction of the skin's traction field (tactile sensing).
+        self.friction: float = DEFAULT_FRICTION
         self.skin = load_skin(skin) if sensing == "tactile" else None
         self.pad: PadLayout | None = None
         self._pattern = None
@@ -192,7 +198,8 @@ class AnalyticBackend(TouchBackend):
         skin, pad = self.skin, self.pad
         assert skin is not None and pad is not None and self._rng is not None
         rows, cols = pad.shape
-        images, estimates, keep = [], [], []
+        images, estimates, keep, fields, states = [], [], [], [], []
+        area = pad.taxels[2]
         for i, (x, n) in enumerate(zip(exact, exact_normals, strict=True)):
             depth, rot, core = press(self._truth, x, n, touch.approach, pad, self._penetration)
             pressure = np.zeros((self.n_fingers, rows, cols))
@@ -200,7 +207,15 @@ class AnalyticBackend(TouchBackend):
             reading = skin.sensor.apply(pressure, self._pattern, self._rng)
             est = estimate_contact(reading[touch.finger], pad, rot, core, skin.skin, skin.sensor)
             if est is not None:
+                load = np.zeros((self.n_fingers, 2))
+                if i > 0:  # the pad slides from the last contact: friction opposes its motion
+                    step = np.stack([rot @ pad.e_u, rot @ pad.up]) @ (exact[i - 1] - x)
+                    if np.linalg.norm(step) > 0:
+                        load[touch.finger] = step / np.linalg.norm(step)
+                field, state = traction_field(pressure, load, self.friction, area)
                 images.append(reading.astype(np.float32))
+                fields.append(field.astype(np.float32))
+                states.append(state)
                 estimates.append(est)
                 keep.append(i)
         if not estimates:
@@ -213,6 +228,7 @@ class AnalyticBackend(TouchBackend):
             finger=np.full(len(keep), touch.finger), force=np.array([e.force for e in estimates]),
             time=times[keep], status="ok", seconds=time.perf_counter() - start,
             images=np.stack(images), sigma=np.array([e.sigma for e in estimates]),
+            traction=np.stack(fields), taxel_state=np.stack(states),
             points_exact=exact[keep], normals_exact=exact_normals[keep],
         )  # fmt: skip
 

@@ -215,6 +215,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._extra: dict[str, list[np.ndarray]] = {k: [] for k in keys}
         #: the pads' readings [Pa] at the last contact (tactile sensing), or None.
         self._last_images: NDArray[np.float32] | None = None
+        #: the pads' traction fields [Pa] and taxel states at the last contact, or None.
+        self._last_traction: NDArray[np.float32] | None = None
+        self._last_taxel_state: NDArray[np.int8] | None = None
         self._touches = 0
         self._update = FitUpdate(None, 0.0, "too_few_contacts")
         self._metrics = _NO_FIT_METRICS.copy()
@@ -227,6 +230,15 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         tactile sensing; None before it, and with exact sensing (the tactile variant's
         observation, :mod:`hapticsim.envs.haptic_explore_tactile_v0`)."""
         return self._last_images
+
+    @property
+    def last_traction(self) -> tuple[NDArray[np.float32], NDArray[np.int8]] | None:
+        """Every pad's traction field (pads, rows, cols, 3) [Pa] and taxel states (pads, rows,
+        cols) at the last recorded contact with tactile sensing (SPEC §11); None before it and
+        with exact sensing (``hapticsim/HapticExploreTactile-v1``'s observation)."""
+        if self._last_traction is None or self._last_taxel_state is None:
+            return None
+        return self._last_traction, self._last_taxel_state
 
     @property
     def truth(self) -> Solid | None:
@@ -354,6 +366,9 @@ class HapticExploreEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._extra["touch"].append(np.full(len(result), self._touches, np.int64))
             if result.images is not None:
                 self._last_images = result.images[-1]
+            if result.traction is not None and result.taxel_state is not None:
+                self._last_traction = result.traction[-1]
+                self._last_taxel_state = result.taxel_state[-1]
         self._touches += 1
 
         pts, nrm = self._stacked()

@@ -216,9 +216,11 @@ class MujocoBackend(TouchBackend):
         pts, nrm = self._noisy(pts_clean, nrm_clean)
         tactile = {}
         if ex.recorder.tactile:
+            pads = ex.recorder.tactile_arrays(before)
             tactile = dict(
-                images=ex.recorder.tactile_arrays(before)["images"], sigma=new["sigma"],
-                points_exact=new["points_exact"], normals_exact=new["normals_exact"],
+                images=pads["images"], sigma=new["sigma"], traction=pads["traction"],
+                taxel_state=pads["taxel_state"], points_exact=new["points_exact"],
+                normals_exact=new["normals_exact"],
             )  # fmt: skip
         return TouchResult(
             points=pts, normals=nrm, points_clean=pts_clean, normals_clean=nrm_clean,

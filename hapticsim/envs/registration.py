@@ -15,6 +15,9 @@ them; ``gymnasium.make("hapticsim/HapticExplore-v0")`` then works, and so does
 - ``hapticsim/HapticExploreTactile-v0``: the task felt through taxel pads, their images in the
   observation (:class:`~hapticsim.envs.haptic_explore_tactile_v0.HapticExploreTactileEnv`): an
   environment of its own name, another observation (SPEC §8);
+- ``hapticsim/HapticExploreTactile-v1``: the same with the skin's traction field (shear and
+  each taxel's stick or slip; SPEC §11) beside the images
+  (:class:`~hapticsim.envs.haptic_explore_tactile_v1.HapticExploreTactileV1Env`);
 - ``hapticsim/HapticExploreTouch-v0``: the compact task observed as the touch history itself
   (contacts, normals and past touches as sets for a permutation-invariant encoder, no coverage
   features; :class:`~hapticsim.envs.haptic_explore_touch_v0.HapticExploreTouchEnv`);
@@ -52,6 +55,13 @@ HAPTIC_EXPLORE_TACTILE_ID: str = "hapticsim/HapticExploreTactile-v0"
 #: Its string entry point.
 HAPTIC_EXPLORE_TACTILE_ENTRY_POINT: str = (
     "hapticsim.envs.haptic_explore_tactile_v0:HapticExploreTactileEnv"
+)
+
+#: Id of the tactile environment with the skin's traction field (shear and stick/slip states).
+HAPTIC_EXPLORE_TACTILE_V1_ID: str = "hapticsim/HapticExploreTactile-v1"
+#: Its string entry point.
+HAPTIC_EXPLORE_TACTILE_V1_ENTRY_POINT: str = (
+    "hapticsim.envs.haptic_explore_tactile_v1:HapticExploreTactileV1Env"
 )
 
 #: Id of the touch-history variant for learners.
@@ -108,7 +118,7 @@ def make_vector_env(env_id: str, num_envs: int = 1, **kwargs: object):  # noqa: 
 
 def register_envs() -> None:
     """Register ``hapticsim/HapticExplore-v0``, ``hapticsim/HapticExploreCompact-v0``,
-    ``hapticsim/HapticExploreTactile-v0``, ``hapticsim/HapticExploreTouch-v0``,
+    ``hapticsim/HapticExploreTactile-v0`` and ``-v1``, ``hapticsim/HapticExploreTouch-v0``,
     ``hapticsim/HapticExploreTouchTactile-v0`` and ``hapticsim/ShapeByTouch-v0``, and the
     renamed ids (:data:`RENAMED_IDS`); calling
     it again does nothing."""
@@ -126,6 +136,7 @@ def register_envs() -> None:
         (HAPTIC_EXPLORE_ID, HAPTIC_EXPLORE_ENTRY_POINT),
         (HAPTIC_EXPLORE_COMPACT_ID, HAPTIC_EXPLORE_COMPACT_ENTRY_POINT),
         (HAPTIC_EXPLORE_TACTILE_ID, HAPTIC_EXPLORE_TACTILE_ENTRY_POINT),
+        (HAPTIC_EXPLORE_TACTILE_V1_ID, HAPTIC_EXPLORE_TACTILE_V1_ENTRY_POINT),
         (HAPTIC_EXPLORE_TOUCH_ID, HAPTIC_EXPLORE_TOUCH_ENTRY_POINT),
         (HAPTIC_EXPLORE_TOUCH_TACTILE_ID, HAPTIC_EXPLORE_TOUCH_TACTILE_ENTRY_POINT),
     ):

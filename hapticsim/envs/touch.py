@@ -184,6 +184,11 @@ class TouchResult:
         points_exact: with tactile sensing, (k, 3) float, the true contacts [m] the estimates
             stand for (MuJoCo's, or the ray cast's); else None.
         normals_exact: the same for the normals.
+        traction: with tactile sensing, (k, pads, rows, cols, 3) float32, every pad's traction
+            field [Pa] at each contact (pressure, then the tangential traction along the pad's
+            u and v; SPEC §11); else None.
+        taxel_state: with tactile sensing, (k, pads, rows, cols) int8, each taxel's state (0
+            free, 1 stick, 2 slip); else None.
         object_moved: how far [m] the touch moved a free object's centre (SPEC §12; 0 for a
             fixed object and the analytic backend).
         object_turned: by what angle [deg] it turned the object.
@@ -206,6 +211,8 @@ class TouchResult:
     sigma: Array | None = None
     points_exact: Array | None = None
     normals_exact: Array | None = None
+    traction: NDArray[np.float32] | None = None
+    taxel_state: NDArray[np.int8] | None = None
     object_moved: float = 0.0
     object_turned: float = 0.0
 
@@ -223,7 +230,8 @@ class TouchResult:
             if arr.shape[0] != n:
                 raise InvalidInputError(f"`{name}` must have {n} entries, got {arr.shape[0]}")
             object.__setattr__(self, name, arr)
-        for name in ("images", "sigma", "points_exact", "normals_exact"):
+        for name in ("images", "sigma", "points_exact", "normals_exact", "traction",
+                     "taxel_state"):  # fmt: skip
             value = getattr(self, name)
             if value is not None and np.asarray(value).shape[0] != n:
                 raise InvalidInputError(

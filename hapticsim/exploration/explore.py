@@ -21,7 +21,10 @@ output directory:
   ``taxels`` (n,) lit taxels; with a free object (``object_dynamics``, SPEC §12) ``object_pose``
   (n, 7) its true position [m] and quaternion (w first) at each contact;
 - ``tactile.npz`` (tactile sensing, compressed): ``images`` (touches, pads, rows, cols) readings
-  [Pa], ``depth`` the skin's depth [m], ``slip`` (..., 2) [m/s], ``finger`` (touches,),
+  [Pa], ``depth`` the skin's depth [m], ``slip`` (..., 2) [m/s], ``traction`` (..., 3) the
+  skin's pressure and the object's tangential traction along the pad's u and v [Pa],
+  ``taxel_state`` (0 free, 1 stick, 2 slip), ``friction`` the contacts' coefficient (SPEC
+  §11; :mod:`hapticsim.perception.tactile.traction`), ``finger`` (touches,),
   ``pad_position`` (touches, pads, 3) [m] and ``pad_rotation`` (touches, pads, 3, 3) of the pads'
   carriers, ``taxel_position``/``taxel_normal`` (pads, rows, cols, 3) and ``taxel_area`` in the
   carriers' frames, ``time`` (touches,) [s] and ``skin`` (the preset as JSON);
@@ -372,9 +375,19 @@ def _tactile_summary(run: Any) -> dict[str, Any]:
         "force_median": float(np.median(a["force"])),
         "force_to_mujoco_median": float(np.median(ratio[a["force_exact"] > 0]))
         if np.any(a["force_exact"] > 0) else None,
+        "slipping_median": _slipping_median(run),
         "pads": int(run.tactile["images"].shape[1]),
         "grid": list(run.tactile["images"].shape[2:]),
     }  # fmt: skip
+
+
+def _slipping_median(run: Any) -> float:
+    """The median over touches of the share of the recording pad's contact taxels that slip."""
+    finger = run.arrays["finger"]
+    state = run.tactile["taxel_state"][np.arange(len(finger)), finger]
+    touching = (state > 0).reshape(len(finger), -1)
+    slipping = (state == 2).reshape(len(finger), -1)
+    return float(np.median(slipping.sum(axis=1) / np.maximum(touching.sum(axis=1), 1)))
 
 
 def _tactile_file(run: Any, skin: Any) -> bytes:
@@ -388,6 +401,7 @@ def _tactile_file(run: Any, skin: Any) -> bytes:
     arrays["taxel_normal"] = np.stack([lay.taxels[1] for lay in layouts])
     arrays["taxel_area"] = np.stack([lay.taxels[2] for lay in layouts])
     arrays["carrier"] = np.array([p.carrier for p in tactile.pads])
+    arrays["friction"] = np.array(tactile.friction)
     arrays["skin"] = np.array(json.dumps(skin.to_dict()))
     return npz_bytes(arrays)
 

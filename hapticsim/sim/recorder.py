@@ -138,7 +138,9 @@ class Recorder:
     def tactile_arrays(self, start: int = 0) -> dict[str, np.ndarray]:
         """Every pad's reading at each recorded contact (``tactile.npz``; empty without tactile
         sensing): ``images`` (n, pads, rows, cols) readings [Pa], ``depth`` (n, pads, rows,
-        cols) the skin's depth [m], ``slip`` (n, pads, rows, cols, 2) [m/s], ``pad_position``
+        cols) the skin's depth [m], ``slip`` (n, pads, rows, cols, 2) [m/s], ``traction`` (n,
+        pads, rows, cols, 3) [Pa] and ``taxel_state`` (n, pads, rows, cols) (SPEC §11),
+        ``pad_position``
         (n, pads, 3) [m, world], ``pad_rotation`` (n, pads, 3, 3), ``time`` (n,) [s]."""
         readings = [s.reading for s in self.sensed[start:]]
         if not readings:
@@ -147,6 +149,8 @@ class Recorder:
             "images": np.stack([r.pressure for r in readings]).astype(np.float32),
             "depth": np.stack([r.depth for r in readings]).astype(np.float32),
             "slip": np.stack([r.slip for r in readings]).astype(np.float32),
+            "traction": np.stack([r.traction for r in readings]).astype(np.float32),
+            "taxel_state": np.stack([r.state for r in readings]).astype(np.int8),
             "pad_position": np.stack([r.pad_position for r in readings]),
             "pad_rotation": np.stack([r.pad_rotation for r in readings]),
             "time": np.array([r.time for r in readings]),

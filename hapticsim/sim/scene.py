@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.constants import SENSINGS
+from hapticsim.constants import DEFAULT_FRICTION, SENSINGS
 from hapticsim.errors import ChoiceError, InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.solid import Solid, solid_arg
@@ -46,11 +46,10 @@ Array = NDArray[np.float64]
 #: (8066 vertices) the measured contact normals on faces are within ~1 degree (median) of the
 #: analytic normal; at 64 (1986 vertices) about 4 degrees on edges.
 DEFAULT_MESH_RESOLUTION: int = 128
-#: Sliding friction of fingertip/object contacts (contacts stay clean at <= 0.3).
-DEFAULT_FRICTION: float = 0.2
 #: Physics time step [s].
 DEFAULT_TIMESTEP: float = 0.001
-#: No-slip solver passes of a scene with a free object (none for a fixed one).
+#: No-slip solver passes of a scene with a free object or a tactile hand (none for a fixed
+#: object touched with exact sensing).
 NOSLIP_ITERATIONS: int = 5
 #: Name of the object body, geom and mesh.
 OBJECT_NAME: str = "object"
@@ -266,6 +265,11 @@ def _compile(
             friction=[config.friction, 0.005, 0.0001],
             rgba=[0.35, 0.55, 0.85, 1.0],
         )
+    if config.sensing == "tactile":
+        # MuJoCo's soft friction lets a pressed fingertip creep long before Coulomb's limit (a
+        # tip pressed by 0.5 N slid at 1 mm/s under 0.21 mu N): the no-slip passes hold it until
+        # mu N (1.01 mu N), where the skin's taxels all slip (tests/sim/test_traction.py)
+        spec.option.noslip_iterations = NOSLIP_ITERATIONS
     dynamics = config.object_dynamics
     if dynamics.free and primitive is None:
         add_dynamics(spec, body, truth, dynamics, collision, layout.foot)

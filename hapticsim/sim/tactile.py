@@ -49,6 +49,7 @@ from hapticsim.perception.tactile import (
     TactileContact,
     estimate_contact,
     taxel_depths,
+    traction_field,
 )
 from hapticsim.perception.tactile.pad import PadError, default_up
 from hapticsim.perception.tactile.skin import PROBE_FORCE
@@ -163,6 +164,11 @@ class TactileReading:
         pressure: (pads, rows, cols) float, the readings [Pa] (after the sensor model).
         slip: (pads, rows, cols, 2) float, the taxels' tangential velocity in the pad's (u, v)
             axes [m/s], 0 where a taxel does not touch.
+        traction: (pads, rows, cols, 3) float, the skin's traction field [Pa] (before the
+            sensor model): the pressure, then the traction the object exerts on the skin along
+            the pad's u and v axes (:func:`~hapticsim.perception.tactile.traction_field`).
+        state: (pads, rows, cols) int8, each taxel's state (0 free, 1 stick, 2 slip).
+        friction: the contacts' Coulomb coefficient.
         pad_position: (pads, 3) float, the carriers' origins [m, world].
         pad_rotation: (pads, 3, 3) float, the carriers' orientations (columns: their axes).
         time: simulation time [s].
@@ -174,6 +180,9 @@ class TactileReading:
     pad_position: Array
     pad_rotation: Array
     time: float
+    traction: Array
+    state: NDArray[np.int8]
+    friction: float
 
 
 @dataclass(frozen=True)
@@ -188,6 +197,53 @@ class SensedContact:
 
     estimate: TactileContact | None
     reading: TactileReading
+
+
+def finger_forces(model: mujoco.MjModel, data: mujoco.MjData, objects: set[int],
+                  tip_finger: dict[int, int], fingers: int) -> tuple[Array, Array]:  # fmt: skip
+    """The object's force on every fingertip: the normal forces (fingers,) [N] and the
+    tangential (friction) forces (fingers, 3) [N, world] of MuJoCo's contacts between each
+    finger's touching geom (`tip_finger`: geom id -> finger) and the object's geoms, summed.
+
+    ``mj_contactForce`` gives the force on ``contact.geom[1]`` in the contact frame; the
+    fingertip feels its opposite when it is ``geom[0]``."""
+    shear = np.zeros((fingers, 3))
+    normal = np.zeros(fingers)
+    force6 = np.zeros(6)
+    con = data.contact
+    for i, (g0, g1) in enumerate(con.geom.tolist()):
+        first = g0 in objects
+        finger = tip_finger.get(g1 if first else g0, -1)
+        if finger < 0 or not (first or g1 in objects) or con.efc_address[i] < 0:
+            continue
+        mujoco.mj_contactForce(model, data, i, force6)
+        tangential = con.frame[i].reshape(3, 3)[1:].T @ force6[1:3]
+        shear[finger] += tangential if first else -tangential
+        normal[finger] += max(float(force6[0]), 0.0)
+    return normal, shear
+
+
+def pad_loads(normal: Array, shear: Array, rotations: Array, layouts: tuple[PadLayout, ...],
+              friction: float) -> Array:  # fmt: skip
+    """Every pad's tangential load as a share of its friction limit, ``|Q| / (mu N)``, along
+    the direction of Q in the pad's (u, v) axes (pads, 2); 0 without a normal force.
+
+    Args:
+        normal: (pads,) normal forces [N]; shear: (pads, 3) tangential forces [N, world]
+            (:func:`finger_forces`).
+        rotations: (pads, 3, 3) the pads' carriers' orientations (columns: their axes).
+        layouts: the pads' layouts.
+        friction: Coulomb's coefficient.
+    """
+    out = np.zeros((len(layouts), 2))
+    for k, layout in enumerate(layouts):
+        if normal[k] <= 0.0 or friction <= 0.0:
+            continue
+        along = np.stack([rotations[k] @ layout.e_u, rotations[k] @ layout.up]) @ shear[k]
+        size = float(np.linalg.norm(along))
+        if size > 0.0:
+            out[k] = along / size * np.linalg.norm(shear[k]) / (friction * normal[k])
+    return out
 
 
 def default_pad_normal(
@@ -329,6 +385,10 @@ class TactileHand:
             mujoco.mj_forward(self.model, data)
             self._rest_pose = object_pose(self.model, data, scene.object_body_id)
         self._vel = np.zeros(6)
+        #: the contacts' Coulomb coefficient (the scene's friction: the hand's and the object's)
+        self.friction: float = float(config.friction)
+        self._objects = set(scene.object_geom_ids)
+        self._tip_finger = scene.hand.tip_finger_of_geom
 
     @property
     def layouts(self) -> tuple[PadLayout, ...]:
@@ -378,7 +438,17 @@ class TactileHand:
                 slip[k] = self._slip(data, pad, rot, world, nrm @ rot.T, depth[k] > 0)
         pressure = self.skin.skin.pressure(depth)
         readings = self.skin.sensor.apply(pressure, self.pattern, self.rng)
-        return TactileReading(depth, readings, slip, positions, rotations, float(data.time))
+        traction, state = traction_field(pressure, self.loads(data, rotations), self.friction,
+                                         self.pads[0].layout.taxels[2])  # fmt: skip
+        return TactileReading(depth, readings, slip, positions, rotations, float(data.time),
+                              traction, state, self.friction)  # fmt: skip
+
+    def loads(self, data: mujoco.MjData, rotations: Array) -> Array:
+        """Every pad's tangential load as a share of its friction limit (:func:`pad_loads` of
+        MuJoCo's forces between each finger's touching geom and the object)."""
+        normal, shear = finger_forces(self.model, data, self._objects, self._tip_finger,
+                                      len(self.pads))  # fmt: skip
+        return pad_loads(normal, shear, rotations, self.layouts, self.friction)
 
     def _object_motion(self, data: mujoco.MjData) -> tuple[Array, Array] | None:
         """A free object's rigid motion from rest to now (rotation, translation), else None."""
@@ -431,7 +501,9 @@ __all__ = [
     "TactileReading",
     "add_mujoco_pads",
     "default_pad_normal",
+    "finger_forces",
     "pad_layouts",
+    "pad_loads",
     "prepare_skin",
     "skin_solref",
 ]

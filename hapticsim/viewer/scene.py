@@ -5,7 +5,8 @@ half transparent; a free object where it was at the state's last touch, SPEC §1
 ``/contacts`` (one point cloud and one set of normals per touch, coloured by finger as in
 ``report.png``), ``/estimate`` (the estimate after the touch: one superquadric in
 orange, a union's parts each in its colour), ``/hand`` (MuJoCo's geoms as meshes) and
-``/taxels`` (the pressure image of the last contact's pad, beside the object). A label above
+``/taxels`` (the pressure image of the last contact's pad, beside the object, and below it
+its taxels' states: stick blue, slip orange, SPEC §11). A label above
 the object names the state: touch, contacts, the estimate's method and epsilon.
 """
 
@@ -47,6 +48,15 @@ def _pressure_rgb(image: np.ndarray) -> np.ndarray:
     return (rgb * 255).astype(np.uint8)
 
 
+#: Colours of the taxel states (free, stick, slip; SPEC §11).
+STATE_RGB: np.ndarray = np.array([[40, 40, 48], [60, 130, 220], [240, 140, 40]], np.uint8)
+
+
+def _state_rgb(state: np.ndarray) -> np.ndarray:
+    """Taxel states (rows, cols) as an (rows, cols, 3) uint8 picture (:data:`STATE_RGB`)."""
+    return STATE_RGB[np.clip(np.asarray(state, int), 0, len(STATE_RGB) - 1)]
+
+
 class RunScene:
     """A run's layers in a viser scene (module docstring).
 
@@ -67,6 +77,7 @@ class RunScene:
         self._estimate_of: object | None = None
         self._hand_nodes: list[Any] = []
         self._taxel_node: Any = None
+        self._state_node: Any = None
         self._taxel_shown = -1
         self._shown: dict[int, bool] = {}  # node id -> visibility sent (send changes only)
         self._truth_moved = False
@@ -200,8 +211,9 @@ class RunScene:
     def _show_taxels(self, state: State) -> None:
         taxels = self.run.taxels
         if taxels is None or state.contacts == 0:
-            if self._taxel_node is not None:
-                self._taxel_node.visible = False
+            for node in (self._taxel_node, self._state_node):
+                if node is not None:
+                    node.visible = False
             return
         last = state.contacts - 1
         if last != self._taxel_shown:
@@ -211,8 +223,17 @@ class RunScene:
                 position=self.center + [1.1 * self.extent, 0.0, 0.0],
                 wxyz=(0.5, 0.5, 0.5, 0.5), cast_shadow=False,
             )  # fmt: skip
+            if self.run.taxel_state is not None:  # stick and slip, below the pressure
+                self._state_node = self.scene.add_image(
+                    "/taxels/state", _state_rgb(self.run.taxel_state[last]), size, size,
+                    format="png", position=self.center + [1.1 * self.extent, 0.0,
+                                                          -0.7 * self.extent],
+                    wxyz=(0.5, 0.5, 0.5, 0.5), cast_shadow=False,
+                )  # fmt: skip
             self._taxel_shown = last
         self._taxel_node.visible = self.visible["taxels"]
+        if self._state_node is not None:
+            self._state_node.visible = self.visible["taxels"]
 
     def set_layer(self, name: str, visible: bool) -> None:
         """Show or hide layer `name` (:data:`LAYERS`) and redraw the current state."""

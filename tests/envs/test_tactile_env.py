@@ -87,3 +87,31 @@ def test_bad_tactile_arguments_name_the_problem() -> None:
 
 def test_registered_beside_the_main_environment() -> None:
     assert TACTILE_ID in gym.registry and "hapticsim/HapticExplore-v0" in gym.registry
+
+
+TRACTION_ID = "hapticsim/HapticExploreTactile-v1"
+
+
+@pytest.mark.parametrize("backend", ["analytic", "mujoco"])
+def test_v1_observes_the_traction_field_within_coulombs_bound(backend: str) -> None:
+    """HapticExploreTactile-v1 (SPEC §11): shear and taxel states beside v0's images; the
+    shear never exceeds mu times the pressure, free taxels carry none; check_env passes."""
+    env = gym.make(TRACTION_ID, backend=backend, touch_budget=6)
+    check_env(env.unwrapped)
+    space = env.observation_space
+    assert space["shear"].shape == (4, 31, 31, 2) and space["taxel_state"].shape == (4, 31, 31)
+    obs, _ = env.reset(seed=1)
+    assert not obs["shear"].any() and not obs["taxel_state"].any()
+    env.action_space.seed(1)
+    states = set()
+    mu = 0.2
+    for _ in range(6):
+        obs, *_ = env.step(env.action_space.sample())
+        assert space.contains(obs)
+        shear = np.hypot(obs["shear"][..., 0], obs["shear"][..., 1])
+        pressure = env.unwrapped.last_traction[0][..., 0] / 1e5 if (
+            env.unwrapped.last_traction is not None) else np.zeros(shear.shape)  # fmt: skip
+        assert np.all(shear <= mu * pressure * (1 + 1e-5) + 1e-7)
+        assert not shear[obs["taxel_state"] == 0].any()
+        states |= set(np.unique(obs["taxel_state"]).tolist())
+    assert {0, 1} <= states or {0, 2} <= states  # something was felt

@@ -223,6 +223,7 @@ def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) ->
             count=60, method="multi", sensing="tactile")  # fmt: skip
     data = load_run(out)
     assert isinstance(data.estimate, SuperquadricUnion) and data.taxels is not None
+    assert data.taxel_state is not None and data.taxel_state.shape == data.taxels.shape
     page_file = export_html(data, replay_states(data, estimate_every=20), tmp_path / "l.html")
     page, errors, outside = _open(browser, page_file.as_uri())
     _wait_status(page, "touch ")
@@ -232,7 +233,7 @@ def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) ->
     page.wait_for_timeout(1500)
     nodes = set(_nodes(page))
     parts = {f"/estimate/part{j}" for j in range(len(data.estimate.parts))}
-    assert {"/truth/part0", "/taxels/pad"} | parts <= nodes
+    assert {"/truth/part0", "/taxels/pad", "/taxels/state"} | parts <= nodes
     assert _drawn(_pixels(page)) > 0.03
     assert not errors and not outside
     page.close()

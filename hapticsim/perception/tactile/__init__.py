@@ -9,6 +9,8 @@
   ``capacitive``) and skin files;
 - :mod:`~hapticsim.perception.tactile.depth`: the depth of taxels inside any solid (hapticsim's
   own taxel model, for objects MuJoCo's ``<tactile>`` sensor cannot read);
+- :mod:`~hapticsim.perception.tactile.traction`: the traction field (pressure and shear per
+  taxel, Coulomb friction, stick and slip);
 - :mod:`~hapticsim.perception.tactile.estimate`: a contact (location, normal, area, force,
   uncertainty) from one pad's reading.
 
@@ -21,6 +23,12 @@ from hapticsim.perception.tactile.estimate import TactileContact, estimate_conta
 from hapticsim.perception.tactile.pad import PadError, PadLayout
 from hapticsim.perception.tactile.presets import DEFAULT_SKIN, SKIN_NAMES, SkinError, load_skin
 from hapticsim.perception.tactile.skin import FixedPattern, SensorModel, SkinModel, SkinPreset
+from hapticsim.perception.tactile.traction import (
+    TAXEL_STATES,
+    contact_share,
+    traction_field,
+    winkler_stick_radius,
+)
 
 __all__ = [
     "DEFAULT_SKIN",
@@ -32,8 +40,12 @@ __all__ = [
     "SkinError",
     "SkinModel",
     "SkinPreset",
+    "TAXEL_STATES",
     "TactileContact",
+    "contact_share",
     "estimate_contact",
     "load_skin",
     "taxel_depths",
+    "traction_field",
+    "winkler_stick_radius",
 ]
