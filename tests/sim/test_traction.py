@@ -3,9 +3,10 @@ skin's taxels slip there (SPEC §11; issue 38's slip-onset bar).
 
 A tip of the built-in hand's radius and skin, on three slide joints, is pressed onto a box by
 a set normal force, then loaded tangentially by a force that rises slowly. With the scene's
-no-slip passes (tactile scenes have them) the tip starts to slide at 1.006-1.013 mu N (measured
-for mu 0.2-0.5, 0.3-1 N); without them MuJoCo's soft friction lets it creep from 0.21 mu N
-on, which no skin would call stuck.
+no-slip passes (tactile scenes have them) the tip starts to slide at 1.010-1.020 mu N and every
+taxel of its pad slips at 1.000-1.010 mu N; without them MuJoCo's soft friction lets it creep
+from 0.09-0.435 mu N on, which no skin would call stuck (9 runs, mu 0.2/0.3/0.5 x N
+0.3/0.5/1 N: docs/tactile/traction).
 """
 
 from __future__ import annotations
