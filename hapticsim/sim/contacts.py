@@ -12,8 +12,8 @@ For a contact between a fingertip sphere and the object:
   with a tactile skin (:mod:`hapticsim.sim.tactile`) feels instead the skin's elastic force of
   the fingertip's penetration ``delta = -dist``, ``c_f delta^2`` (``c_f = pi E R_f / h``, the
   sphere law of :class:`~hapticsim.perception.tactile.SkinModel`): what its controllers press
-  against;
-  MuJoCo's force is kept as ``force_exact``.
+  against; MuJoCo's force, which follows the skin's integrated pressure
+  (:meth:`~hapticsim.sim.tactile.TactileHand.follow_skin`), is kept as ``force_exact``.
 """
 
 from __future__ import annotations

@@ -51,6 +51,9 @@ DEFAULT_TIMESTEP: float = 0.001
 #: No-slip solver passes of a scene with a free object or a tactile hand (none for a fixed
 #: object touched with exact sensing).
 NOSLIP_ITERATIONS: int = 5
+#: Frictional to normal stiffness of a tactile scene's contacts (MuJoCo ``impratio``; 1 with
+#: exact sensing).
+SKIN_IMPRATIO: float = 100.0
 #: Name of the object body, geom and mesh.
 OBJECT_NAME: str = "object"
 #: Height of the object's lowest point above the table top [m].
@@ -270,6 +273,11 @@ def _compile(
         # tip pressed by 0.5 N slid at 1 mm/s under 0.21 mu N): the no-slip passes hold it until
         # mu N (1.01 mu N), where the skin's taxels all slip (tests/sim/test_traction.py)
         spec.option.noslip_iterations = NOSLIP_ITERATIONS
+        # and a soft friction row creeps while it holds, which moves MuJoCo's normal force off
+        # its static law (the skin's: TactileHand.follow_skin); friction 100 times stiffer than
+        # the normal rows brought the Shadow hand's settled presses from 0.48 to 0.11 (p95 of
+        # |skin / MuJoCo - 1|; docs/tactile/README.md)
+        spec.option.impratio = SKIN_IMPRATIO
     dynamics = config.object_dynamics
     if dynamics.free and primitive is None:
         add_dynamics(spec, body, truth, dynamics, collision, layout.foot)

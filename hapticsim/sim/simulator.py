@@ -136,6 +136,7 @@ class Simulator:
         self._warnings = self.data.warning.number  # (mjNWARNING,) int view
         self._rotvec = np.zeros(3)
         self._quat_buf = np.zeros(4)
+        self._vel6 = np.zeros(6)
         #: the fingertips' taxel pads, with tactile sensing (None with exact sensing).
         self.tactile = None
         #: the skins' force coefficients per finger (tactile sensing), else None.
@@ -184,6 +185,8 @@ class Simulator:
         """
         mujoco.mj_resetData(self.model, self.data)
         self.steps = 0
+        if self.tactile is not None:
+            self.tactile.reset_softness()
         self.place(palm_world, palm_rot_world, postures)
         if self.scene.free:
             self.initial_object_pose = self.object_pose()
@@ -264,6 +267,7 @@ class Simulator:
             self._palm_goal_pos.copy(), self._palm_goal_quat.copy(), self._palm_reached,
             self._palm_speed, self._palm_angular_speed, [p.copy() for p in self._posture],
             [None if t is None else t.copy() for t in self._tip_target], self.steps,
+            self.model.geom_solref.copy(),  # the skin's softness (tactile sensing) lives there
         )  # fmt: skip
         return SavedState(physics, commands)
 
@@ -273,7 +277,8 @@ class Simulator:
         mujoco.mj_setState(self.model, self.data, saved.physics, kind)
         (self._palm_goal_pos, self._palm_goal_quat, self._palm_reached, self._palm_speed,
          self._palm_angular_speed, self._posture, self._tip_target,
-         self.steps) = saved.commands  # fmt: skip
+         self.steps, solref) = saved.commands  # fmt: skip
+        self.model.geom_solref[:] = solref
         mujoco.mj_forward(self.model, self.data)
         self._contacts_stale = True
 
@@ -300,6 +305,13 @@ class Simulator:
     def tip_world(self, finger: int) -> Array:
         """(3,) float, fingertip centre of a finger [m, world]."""
         return self.hand.tip_world(self.data, finger)
+
+    def tip_velocity(self, finger: int) -> Array:
+        """(3,) float, the velocity of a finger's tip site [m/s, world]."""
+        site = self.hand.fingers[finger].site_id
+        mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_SITE, site,
+                                 self._vel6, 0)  # fmt: skip
+        return self._vel6[3:].copy()
 
     # ------------------------------------------------------------------ commands
     def set_palm_goal(
@@ -490,6 +502,8 @@ class Simulator:
         mujoco.mj_step(self.model, self.data, nstep=self.servo.control_steps)
         self.steps += self.servo.control_steps
         self._check_stable()
+        if self.tactile is not None:
+            self.tactile.follow_skin(self.data)
         self._contacts_stale = True
         for hook in self.tick_hooks:
             hook(self)

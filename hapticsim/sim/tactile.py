@@ -8,12 +8,18 @@ pitch over the same extent), laid on its fingertip (the finger's ``pad`` table: 
 capsule geom's surface, a site with a radius, or a flat plate), centred on the fingertip's pulp
 unless the description says otherwise (:func:`default_pad_normal`).
 
-**Skin contact.** With tactile sensing the touching geoms are the skin: their contacts act at the
-true surface (margin and gap 0; the exact-sensing hand reports contacts within a 1 mm margin and
-pushes from there, so its fingertip never sinks in) and are as soft as the skin. MuJoCo's soft
-contact is linear in the penetration, the skin's law (:meth:`SkinModel.sphere_force`) quadratic:
-the time constant :func:`skin_solref` makes them agree at :data:`PROBE_FORCE`, the force
-of a recorded probe (measured: ``docs/tactile/README.md``).
+**Skin contact: one law for skin and physics.** With tactile sensing the touching geoms are
+the skin: their contacts act at the true surface (margin and gap 0; the exact-sensing hand
+reports contacts within a 1 mm margin and pushes from there, so its fingertip never sinks in),
+take the skin's softness over the object's (geom priority), and hold one impedance at every
+depth (:data:`SKIN_SOLIMP`). MuJoCo's soft contact is linear in the penetration, the skin's
+law quadratic or steeper: after every control tick :meth:`TactileHand.follow_skin` sets each
+touching fingertip's time constant so that the force MuJoCo applies at its present penetration
+is the skin's integrated pressure there. A touch is recorded once its press has settled
+(:meth:`~hapticsim.sim.controllers.base.FingerTask.settled`), so that ``force_exact`` is then
+MuJoCo's static force. Tactile scenes also run MuJoCo's no-slip passes and a stiff friction
+(:data:`~hapticsim.sim.scene.SKIN_IMPRATIO`), without which a pressed tip creeps and its normal
+force leaves the static law (measured: ``docs/tactile/README.md``).
 
 **Readings** (:meth:`TactileHand.read`): per pad, the depth of every taxel inside the object
 [m], the skin's pressure after the sensor model [Pa] and the taxels' slip [m/s] (the tangential
@@ -65,17 +71,24 @@ TAXEL_MODELS: tuple[str, ...] = ("hapticsim", "mujoco")
 #: into a static stiffness (``20 m / tau^2`` at MuJoCo's default impedance): a 20 g tip
 #: measured 1000 N/m at tau = 0.02 s (``docs/tactile/README.md``).
 FINGERTIP_MASS: float = 0.02
+#: Longest contact time constant [s] a skin fingertip gets (the skin's law is soft at a graze).
+SKIN_TAU_MAX: float = 0.1
+#: Control ticks between two readings of a touching pad's force (:meth:`TactileHand.follow_skin`).
+SKIN_LAW_TICKS: int = 10
+#: The skin fingertips' constant impedance (MuJoCo ``solimp``): the static force is then
+#: ``k imp r / R`` with one impedance at every depth.
+SKIN_SOLIMP: tuple[float, ...] = (0.95, 0.95, 0.001, 0.5, 2.0)
 #: Name prefix of the pad geoms and meshes (MuJoCo's taxel model).
 PAD_PREFIX: str = "hand/pad/"
 
 
 def skin_solref(skin: SkinPreset, radius: float) -> tuple[float, float]:
-    """MuJoCo ``solref`` (time constant [s], damping ratio 1) of a fingertip of `radius` [m]
-    whose contact carries :data:`PROBE_FORCE` at the penetration the skin's elastic law
-    gives it.
+    """The resting MuJoCo ``solref`` (time constant [s], damping ratio 1) of a fingertip of
+    `radius` [m], before it touches (:meth:`TactileHand.follow_skin` takes over then): its
+    contact carries :data:`PROBE_FORCE` at the penetration the skin's elastic law gives it.
 
     The skin's secant stiffness there is ``F / delta(F) = sqrt(pi E R F / h)``; MuJoCo's soft
-    contact at steady state, with its default impedance (0.95 beyond 1 mm), has the static
+    contact at steady state, with the skin's impedance 0.95 (:data:`SKIN_SOLIMP`), has the static
     stiffness ``F / r = m k_ref d^2 / (1 - d) = 20 m / tau^2`` on an effective mass m
     (:data:`FINGERTIP_MASS`), hence ``tau = sqrt(20 m / k)``, at least 2 ms (twice the time
     step).
@@ -102,6 +115,8 @@ def prepare_skin(spec: mujoco.MjSpec, hand: HandDescription, skin: SkinPreset,
         geom.margin = 0.0
         geom.gap = 0.0
         geom.solref = list(skin_solref(skin, f.tip_radius))
+        geom.solimp = list(SKIN_SOLIMP)
+        geom.priority = 1  # the contact takes the skin's softness, not a mix with the object's
     if taxel_model != "mujoco":
         return
     for mesh in spec.meshes:
@@ -389,6 +404,13 @@ class TactileHand:
         self.friction: float = float(config.friction)
         self._objects = set(scene.object_geom_ids)
         self._tip_finger = scene.hand.tip_finger_of_geom
+        self._force6 = np.zeros(6)
+        self._tip_geoms = [int(f.tip_geom_id) for f in scene.hand.fingers]
+        self._rest_solref = [skin_solref(self.skin, f.tip_radius) for f in scene.hand.fingers]
+        #: per finger in contact, the skin's force law ``F = c r^2`` read from its pad (c [N/m^2])
+        #: and the ticks since, or None
+        self._skin_law: list[tuple[float, int] | None] = [None] * len(self.pads)
+        self.reset_softness()  # a cached scene's model may come from another run
 
     @property
     def layouts(self) -> tuple[PadLayout, ...]:
@@ -413,27 +435,13 @@ class TactileHand:
         slip = np.zeros((n, rows, cols, 2))
         rotations = np.zeros((n, 3, 3))
         positions = np.zeros((n, 3))
-        truth = self.scene.truth
-        center, bound = np.asarray(truth.center), float(truth.bounding_radius)
         moved = self._object_motion(data)
         for k, pad in enumerate(self.pads):
             rot, t = self.pad_pose(data, pad)
             rotations[k], positions[k] = rot, t
             pos, nrm, _ = pad.layout.taxels
             world = pos @ rot.T + t
-            if self.taxel_model == "mujoco":
-                count = pad.layout.count
-                block = data.sensordata[pad.sensor_adr : pad.sensor_adr + count]
-                depth[k] = np.asarray(block).reshape(rows, cols)
-            else:
-                rot_o, t_o = rot, t  # the pad in the frame of the object at rest
-                if moved is not None:
-                    rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
-                if np.linalg.norm(t_o - center) > bound + pad.reach + pad.layout.pitch * max(
-                    rows, cols
-                ):
-                    continue  # nowhere near the object
-                depth[k] = taxel_depths(truth, pos @ rot_o.T + t_o, nrm @ rot_o.T, pad.reach)
+            depth[k] = self._depth(data, pad, rot, t, moved)
             if np.any(depth[k] > 0):
                 slip[k] = self._slip(data, pad, rot, world, nrm @ rot.T, depth[k] > 0)
         pressure = self.skin.skin.pressure(depth)
@@ -449,6 +457,131 @@ class TactileHand:
         normal, shear = finger_forces(self.model, data, self._objects, self._tip_finger,
                                       len(self.pads))  # fmt: skip
         return pad_loads(normal, shear, rotations, self.layouts, self.friction)
+
+    def _depth(self, data: mujoco.MjData, pad: Pad, rot: Array, t: Array,
+               moved: tuple[Array, Array] | None) -> Array:  # fmt: skip
+        """One pad's depth image (rows, cols) [m] (module docstring), its carrier at `rot`,
+        `t`; `moved` a free object's motion from rest (:meth:`_object_motion`)."""
+        rows, cols = pad.layout.shape
+        if self.taxel_model == "mujoco":
+            block = data.sensordata[pad.sensor_adr : pad.sensor_adr + pad.layout.count]
+            return np.asarray(block).reshape(rows, cols)
+        truth = self.scene.truth
+        rot_o, t_o = rot, t  # the pad in the frame of the object at rest
+        if moved is not None:
+            rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
+        reach = float(truth.bounding_radius) + pad.reach + pad.layout.pitch * max(rows, cols)
+        if np.linalg.norm(t_o - np.asarray(truth.center)) > reach:
+            return np.zeros((rows, cols))  # nowhere near the object
+        pos, nrm, _ = pad.layout.taxels
+        return taxel_depths(truth, pos @ rot_o.T + t_o, nrm @ rot_o.T, pad.reach)
+
+    def pad_force(self, data: mujoco.MjData, finger: int,
+                  near: tuple[Array, float] | None = None) -> float:  # fmt: skip
+        """The skin's normal force on a finger's pad now [N]: its pressure (before the sensor
+        model) integrated over the taxels.
+
+        Args:
+            data: the state.
+            finger: the finger (its pad).
+            near: (point (3,) [m, world], radius [m]): read only the taxels within `radius` of
+                a contact point (the whole pad when a taxel at the edge of that disc is in
+                contact too); None: every taxel.
+        """
+        pad = self.pads[finger]
+        rot, t = self.pad_pose(data, pad)
+        moved = self._object_motion(data)
+        area = pad.layout.taxels[2]
+        if near is None or self.taxel_model == "mujoco":
+            depth = self._depth(data, pad, rot, t, moved)
+            return float(np.sum(self.skin.skin.pressure(depth) * area))
+        pos, nrm, _ = pad.layout.taxels
+        world = pos @ rot.T + t
+        distance = np.linalg.norm(world - near[0], axis=-1)
+        keep = distance <= near[1]
+        if not keep.any():
+            return self.pad_force(data, finger)
+        truth = self.scene.truth
+        rot_o, t_o = rot, t
+        if moved is not None:
+            rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
+        depth = taxel_depths(truth, pos[keep] @ rot_o.T + t_o, nrm[keep] @ rot_o.T, pad.reach)
+        if np.any(depth[distance[keep] > near[1] - 1.5 * pad.layout.pitch] > 0):
+            return self.pad_force(data, finger)  # the contact reaches the disc's edge
+        return float(np.sum(self.skin.skin.pressure(depth) * area[keep]))
+
+    def reset_softness(self) -> None:
+        """Give every fingertip its skin's resting contact softness (:func:`skin_solref`)."""
+        self._skin_law = [None] * len(self.pads)
+        for geom, solref in zip(self._tip_geoms, self._rest_solref, strict=True):
+            self.model.geom_solref[geom] = solref
+
+    def follow_skin(self, data: mujoco.MjData) -> None:
+        """One contact law for skin and physics: set every touching fingertip's contact time
+        constant so that the normal force MuJoCo applies at its present penetration is the
+        skin's force there (:meth:`pad_force`); call after every control tick.
+
+        MuJoCo's soft contact at rest carries ``k imp r / R`` (``efc_KBIP``'s stiffness k and
+        impedance imp, the regulariser R, the penetration r), ``k`` proportional to
+        ``1 / tau^2``. A sliding contact (its friction at the cone) carries more: the friction
+        rows' damping ``B v_t`` (``B`` proportional to ``1 / tau``) adds ``mu |aref_t|`` to the
+        normal row's reference, so ``f_n = (k imp r + mu |aref_t|) / (R_n + mu^2 R_t)``. The
+        new time constant solves ``f_n(tau) = F_skin``, within [2 time steps,
+        :data:`SKIN_TAU_MAX`]. The skin's force is read from the pad every
+        :data:`SKIN_LAW_TICKS` ticks of a contact and carried in between as ``c r^2`` of the
+        deepest penetration r (the skin's law for a sphere on a smooth surface; reading the
+        pad every tick cost half of an exploration's time). Measured on the paper's bodies:
+        ``docs/tactile/README.md``.
+        """
+        n = len(self.pads)
+        quadratic, linear, deepest = np.zeros(n), np.zeros(n), np.zeros(n)
+        where = np.zeros((n, 3))
+        con = data.contact
+        for i, (g0, g1) in enumerate(con.geom.tolist()):
+            first = g0 in self._objects
+            finger = self._tip_finger.get(g1 if first else g0, -1)
+            adr = int(con.efc_address[i])
+            if finger < 0 or not (first or g1 in self._objects) or adr < 0:
+                continue
+            penetration = -float(con.dist[i])
+            if penetration <= 0.0:
+                continue
+            if penetration > deepest[finger]:
+                deepest[finger], where[finger] = penetration, con.pos[i]
+            stiffness, _, impedance, _ = data.efc_KBIP[adr]
+            r_n = float(data.efc_R[adr])
+            static = stiffness * impedance * penetration
+            mujoco.mj_contactForce(self.model, data, i, self._force6)
+            mu = float(con.friction[i, 0])
+            if self._force6[0] > 0 and np.hypot(*self._force6[1:3]) >= 0.98 * mu * self._force6[0]:
+                r_t = float(data.efc_R[adr + 1])
+                denominator = r_n + mu * mu * r_t
+                quadratic[finger] += static / denominator
+                linear[finger] += mu * float(np.hypot(*data.efc_aref[adr + 1 : adr + 3])) / (
+                    denominator)  # fmt: skip
+            else:
+                quadratic[finger] += static / r_n
+        lowest = 2.0 * self.model.opt.timestep
+        for k in range(n):
+            if quadratic[k] <= 0.0:
+                self._skin_law[k] = None  # out of contact: read the pad afresh at the next touch
+                continue
+            geom = self._tip_geoms[k]
+            tau = float(self.model.geom_solref[geom, 0])
+            law = self._skin_law[k]
+            if law is None or law[1] >= SKIN_LAW_TICKS:  # read the pad: F = c depth^2 from here
+                pad = self.pads[k]  # the taxels within twice a sphere's contact radius
+                radius = 2.0 * np.sqrt(2.0 * pad.reach * deepest[k]) + 3.0 * pad.layout.pitch
+                force = self.pad_force(data, k, (where[k], radius))
+                law = (force / deepest[k] ** 2, 0)
+            self._skin_law[k] = (law[0], law[1] + 1)
+            target = law[0] * deepest[k] ** 2
+            if target <= 0.0:
+                new = SKIN_TAU_MAX
+            else:  # a x^2 + b x = F in x = 1 / tau_new, a and b from the present tau
+                a, b = quadratic[k] * tau * tau, linear[k] * tau
+                new = 2.0 * a / (np.sqrt(b * b + 4.0 * a * target) - b)
+            self.model.geom_solref[geom, 0] = float(np.clip(new, lowest, SKIN_TAU_MAX))
 
     def _object_motion(self, data: mujoco.MjData) -> tuple[Array, Array] | None:
         """A free object's rigid motion from rest to now (rotation, translation), else None."""

@@ -57,7 +57,7 @@ def test_tactile_contacts_are_estimates_near_the_truth(backend: str) -> None:
     for _ in range(6):
         env.step(env.action_space.sample())
     c = env.contacts
-    assert len(c) > 5
+    assert len(c) >= 3  # strokes record only settled touches (tactile sensing)
     acc = contact_accuracy(env.truth, c.extra["points_clean"], c.extra["normals_clean"])
     assert acc["distance_median"] < 5e-5 and acc["angle_median_deg"] < 2.0
     assert not np.array_equal(c.extra["points_clean"], c.extra["points_exact"])

@@ -142,12 +142,41 @@ def test_every_pad_is_read_at_every_recorded_contact(cube_run) -> None:  # noqa:
 
 def test_the_skin_force_is_what_the_controllers_press_against(cube_run) -> None:  # noqa: ANN001
     """The probe records at 0.5 N of the skin's force (pi E R delta^2 / h of MuJoCo's
-    penetration); the taxels' sum agrees with it (measured median ratio 1.0)."""
+    penetration) or more, once the press has settled."""
     a = cube_run.arrays
     probes = cube_run.explorer.recorder.pattern_kinds
     patch = np.array([probes[p] == "patch" for p in a["pattern"]])
     assert np.median(a["force"][patch]) > 0.4
     assert np.all(np.isfinite(a["force_exact"])) and np.all(a["force_exact"] >= 0)
+
+
+def test_mujocos_force_is_the_skins_at_settled_touches(cube_run) -> None:  # noqa: ANN001
+    """One contact law (issue 38 item 1): the force MuJoCo applies at a recorded touch is the
+    skin's integrated pressure. Measured (paper bodies, seeds 0-2, hapticsim's hand): settled
+    probes |skin / MuJoCo - 1| median 0.005, p95 0.02; every touch with the strokes' sliding
+    ones median 0.007, p95 0.10-0.14 (docs/tactile/README.md); here one cube run, bounds with
+    a margin of 4 to 10."""
+    a = cube_run.arrays
+    error = np.abs(a["force"] / np.maximum(a["force_exact"], 1e-9) - 1.0)
+    probes = cube_run.explorer.recorder.pattern_kinds
+    patch = np.array([probes[p] == "patch" for p in a["pattern"]])
+    assert np.median(error[patch]) < 0.05 and np.percentile(error[patch], 95) < 0.2
+    assert np.median(error) < 0.05 and np.percentile(error, 95) < 0.5
+
+
+def test_a_reset_gives_the_fingertips_their_resting_softness() -> None:
+    """The skin's law changes the fingertips' contact time constant while they touch; a new
+    run on the same (cached) scene starts from the skin's resting softness."""
+    from hapticsim.sim.simulator import Simulator
+    from hapticsim.sim.tactile import skin_solref
+
+    scene = build_scene(get_body("cube"), SceneConfig(sensing="tactile"))
+    sim = Simulator(scene)
+    tips = [f.tip_geom_id for f in scene.hand.fingers]
+    scene.model.geom_solref[tips, 0] = 0.05  # as a touching run leaves them
+    sim.reset(np.array([0.0, 0.0, 0.4]), np.eye(3))
+    rest = skin_solref(scene.config.skin, scene.hand.fingers[0].tip_radius)
+    np.testing.assert_allclose(scene.model.geom_solref[tips], [rest] * len(tips))
 
 
 def test_mujocos_taxel_model_reads_the_scene() -> None:

@@ -18,7 +18,7 @@ import pytest
 from hapticsim.geometry import Superquadric
 from hapticsim.perception.tactile import PadLayout, load_skin, taxel_depths, traction_field
 from hapticsim.perception.tactile.traction import TAXEL_SLIP, contact_share
-from hapticsim.sim.scene import NOSLIP_ITERATIONS
+from hapticsim.sim.scene import NOSLIP_ITERATIONS, SKIN_IMPRATIO
 from hapticsim.sim.tactile import finger_forces, pad_loads, skin_solref
 
 RADIUS = 0.008
@@ -37,6 +37,7 @@ def stroke(mu: float, normal: float, noslip: int, rate: float = 0.5):
     spec.option.timestep = TIMESTEP
     spec.option.gravity = [0, 0, 0]
     spec.option.noslip_iterations = noslip
+    spec.option.impratio = SKIN_IMPRATIO if noslip else 1.0  # a tactile scene's, or before
     friction = [mu, 0.005, 0.0001]
     spec.worldbody.add_geom(name="object", type=mujoco.mjtGeom.mjGEOM_BOX,
                             size=[0.08, 0.08, TOP], friction=friction)  # fmt: skip

@@ -4,10 +4,17 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 
+import numpy as np
+
 from hapticsim.sim.contacts import ContactState
 from hapticsim.sim.hand import finger_index
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.simulator import Simulator
+
+#: Fingertip speed along the contact normal [m/s] below which a tactile press has settled.
+SETTLE_SPEED: float = 0.001
+#: Control ticks in a row the fingertip must stay below :data:`SETTLE_SPEED`.
+SETTLE_TICKS: int = 3
 
 
 class FingerTask(ABC):
@@ -32,10 +39,28 @@ class FingerTask(ABC):
         #: touches the finger's pad did not feel (tactile sensing): not recorded.
         self.unfelt = 0
         self.message = ""
+        self._calm: tuple[int, int] = (-1, 0)  # (simulator step, calm ticks in a row)
 
     def tip_radius(self, sim: Simulator) -> float:
         """Radius [m] of this task's fingertip on the simulated hand."""
         return sim.hand.fingers[self.finger].tip_radius
+
+    def settled(self, sim: Simulator, contact, sliding: bool = False) -> bool:  # noqa: ANN001
+        """Whether a touch may be recorded now: always with exact sensing; with a tactile skin
+        once the press has settled, the fingertip's speed (along the contact normal only when
+        it is `sliding` along the surface on purpose) below :data:`SETTLE_SPEED` over
+        :data:`SETTLE_TICKS` control ticks in a row. A robot reads its skin at rest, and
+        MuJoCo's force is then its static force; one calm tick may be the top of a bounce, and
+        a tip creeping sideways carries another normal force."""
+        if sim.tactile is None:
+            return True
+        v = sim.tip_velocity(self.finger)
+        speed = abs(float(v @ contact.normal_world)) if sliding else float(np.linalg.norm(v))
+        last, count = self._calm
+        steady = sim.steps - last <= sim.servo.control_steps
+        count = (count + 1 if steady else 1) if speed < SETTLE_SPEED else 0
+        self._calm = (sim.steps, count)
+        return count >= SETTLE_TICKS
 
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
         """Keep a contact; stops the task when the recorder is full. With tactile sensing the

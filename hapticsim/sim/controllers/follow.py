@@ -174,6 +174,8 @@ class FollowTask(FingerTask):
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force:
+                    if not self.settled(sim, contact):
+                        return  # hold the press until it settles
                     self.record(sim, contact)
                     self._last_point = self._last_record = contact.point_world
                     self._state, self._t0 = "follow", now
@@ -204,6 +206,7 @@ class FollowTask(FingerTask):
                 self._last_record is not None
                 and norm(point - self._last_record) >= cfg.spacing
                 and lo <= force <= hi
+                and self.settled(sim, contact, sliding=True)
             ):
                 self._last_record = point
                 self.record(sim, contact)

@@ -192,6 +192,8 @@ class ProbeTask(FingerTask):
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force_threshold:
+                    if not self.settled(sim, contact):
+                        return  # hold the press until it settles
                     self.failed = 0
                     self.record(sim, contact)
                     if not self.done:
