@@ -4,7 +4,7 @@ explorations, and what it costs (docs/tactile/traction).
     python scripts/skin_traction.py --out docs/tactile/traction/traction.json \\
         --figure docs/tactile/traction/traction.png
 
-Parts (about 40 s on 2 cores):
+Parts (about 90 s on 2 cores):
 
 - ``thin_layer``: a sphere of the built-in fingertip's radius pressed 0.5 mm into the ideal
   skin (a 0.05 mm grid, Winkler pressure) and loaded tangentially by Q = share x mu N: the stick
