@@ -40,6 +40,7 @@ class FingerTask(ABC):
         self.unfelt = 0
         self.message = ""
         self._calm: tuple[int, int] = (-1, 0)  # (simulator step, calm ticks in a row)
+        self._hold: tuple[int, np.ndarray] | None = None  # (simulator step, held target)
 
     def tip_radius(self, sim: Simulator) -> float:
         """Radius [m] of this task's fingertip on the simulated hand."""
@@ -61,6 +62,16 @@ class FingerTask(ABC):
         count = (count + 1 if steady else 1) if speed < SETTLE_SPEED else 0
         self._calm = (sim.steps, count)
         return count >= SETTLE_TICKS
+
+    def hold(self, sim: Simulator, target) -> None:  # noqa: ANN001 - (3,) array
+        """Hold a press still until it settles (:meth:`settled`): the tip's target stays where
+        it was when the hold began (`target`, the press's target then), so the tip comes to
+        rest instead of chasing a target that moves with it."""
+        if self._hold is None or sim.steps - self._hold[0] > sim.servo.control_steps:
+            self._hold = (sim.steps, np.array(target, dtype=np.float64))
+        else:
+            self._hold = (sim.steps, self._hold[1])
+        sim.set_tip_target(self.finger, self._hold[1])
 
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
         """Keep a contact; stops the task when the recorder is full. With tactile sensing the

@@ -175,7 +175,8 @@ class FollowTask(FingerTask):
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force:
                     if not self.settled(sim, contact):
-                        return  # hold the press until it settles
+                        self.hold(sim, tip - self._normal * self._depth)
+                        return
                     self.record(sim, contact)
                     self._last_point = self._last_record = contact.point_world
                     self._state, self._t0 = "follow", now

@@ -193,7 +193,8 @@ class ProbeTask(FingerTask):
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force_threshold:
                     if not self.settled(sim, contact):
-                        return  # hold the press until it settles
+                        self.hold(sim, tip - self._normal * self._depth)
+                        return
                     self.failed = 0
                     self.record(sim, contact)
                     if not self.done:
