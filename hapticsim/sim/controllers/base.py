@@ -11,9 +11,12 @@ from hapticsim.sim.hand import finger_index
 from hapticsim.sim.recorder import Recorder
 from hapticsim.sim.simulator import Simulator
 
-#: Fingertip speed along the contact normal [m/s] below which a tactile press has settled.
+#: Fingertip speed [m/s] below which a tactile press has settled.
 SETTLE_SPEED: float = 0.001
-#: Control ticks in a row the fingertip must stay below :data:`SETTLE_SPEED`.
+#: Fingertip speed along the contact normal [m/s] below which a tactile press has settled: the
+#: contact's damping force at it is a few percent of its elastic force on the heavier hands.
+SETTLE_NORMAL_SPEED: float = 0.0002
+#: Control ticks in a row a settled fingertip must stay calm.
 SETTLE_TICKS: int = 3
 
 
@@ -48,18 +51,21 @@ class FingerTask(ABC):
 
     def settled(self, sim: Simulator, contact, sliding: bool = False) -> bool:  # noqa: ANN001
         """Whether a touch may be recorded now: always with exact sensing; with a tactile skin
-        once the press has settled, the fingertip's speed (along the contact normal only when
-        it is `sliding` along the surface on purpose) below :data:`SETTLE_SPEED` over
-        :data:`SETTLE_TICKS` control ticks in a row. A robot reads its skin at rest, and
-        MuJoCo's force is then its static force; one calm tick may be the top of a bounce, and
-        a tip creeping sideways carries another normal force."""
+        once the press has settled, the fingertip's speed along the contact normal below
+        :data:`SETTLE_NORMAL_SPEED` and (unless it is `sliding` along the surface on purpose)
+        its whole speed below :data:`SETTLE_SPEED`, over :data:`SETTLE_TICKS` control ticks in a
+        row. A robot reads its skin at rest, and MuJoCo's force is then its static force: one
+        calm tick may be the top of a bounce, a tip creeping sideways carries another normal
+        force, and the contact's damping adds ``B v_n / R`` (0.15 N at 1 mm/s on the Shadow
+        hand's fingertips)."""
         if sim.tactile is None:
             return True
         v = sim.tip_velocity(self.finger)
-        speed = abs(float(v @ contact.normal_world)) if sliding else float(np.linalg.norm(v))
+        normal = abs(float(v @ contact.normal_world))
+        calm = normal < SETTLE_NORMAL_SPEED and (sliding or float(np.linalg.norm(v)) < SETTLE_SPEED)
         last, count = self._calm
         steady = sim.steps - last <= sim.servo.control_steps
-        count = (count + 1 if steady else 1) if speed < SETTLE_SPEED else 0
+        count = (count + 1 if steady else 1) if calm else 0
         self._calm = (sim.steps, count)
         return count >= SETTLE_TICKS
 
