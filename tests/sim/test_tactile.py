@@ -152,16 +152,16 @@ def test_the_skin_force_is_what_the_controllers_press_against(cube_run) -> None:
 
 def test_mujocos_force_is_the_skins_at_settled_touches(cube_run) -> None:  # noqa: ANN001
     """One contact law (issue 38 item 1): the force MuJoCo applies at a recorded touch is the
-    skin's integrated pressure. Measured (paper bodies, seeds 0-2, hapticsim's hand): settled
-    probes |skin / MuJoCo - 1| median 0.005, p95 0.02; every touch with the strokes' sliding
-    ones median 0.007, p95 0.10-0.14 (docs/tactile/README.md); here one cube run, bounds with
-    a margin of 4 to 10."""
+    skin's integrated pressure. Measured (paper bodies, seeds 0-2, hapticsim's hand,
+    docs/tactile/force): settled probes |skin / MuJoCo - 1| median 0.004, p95 0.022; every touch
+    with the strokes' sliding ones median 0.004, p95 0.036; here one cube run, bounds with a
+    margin of 5 to 12."""
     a = cube_run.arrays
     error = np.abs(a["force"] / np.maximum(a["force_exact"], 1e-9) - 1.0)
     probes = cube_run.explorer.recorder.pattern_kinds
     patch = np.array([probes[p] == "patch" for p in a["pattern"]])
     assert np.median(error[patch]) < 0.05 and np.percentile(error[patch], 95) < 0.2
-    assert np.median(error) < 0.05 and np.percentile(error, 95) < 0.5
+    assert np.median(error) < 0.05 and np.percentile(error, 95) < 0.3
 
 
 def test_a_reset_gives_the_fingertips_their_resting_softness() -> None:
