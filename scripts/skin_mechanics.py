@@ -12,7 +12,9 @@ Poisson's ratios 0 (the Winkler law's own assumption), 0.3, 0.45 and 0.49 (silic
 Then the law with the layer's lateral coupling (``layer_pressure``, a 0.1 mm grid) and the
 Winkler law against the FE for a sphere of 8 mm pressed into a flat 2 mm pad, and, held out
 (none of it was looked at while the law was written), spheres of 4 and 15 mm in 1 and 3 mm
-layers and flat-ended punches; the FE punch against Boussinesq's half-space solution.
+layers and flat-ended punches; the FE punch against Boussinesq's half-space solution. And a long
+cylinder of 8 mm (a line contact) in 1-3 mm layers: the plane-strain FE against Hertz's line
+contact and the Winkler law, the layer law and the Winkler law against that FE.
 Prints JSON (and writes it with --out); --figure draws the pressure profiles at 0.5 mm.
 """
 
@@ -32,14 +34,18 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from hapticsim.constants import FINGERTIP_RADIUS
 from hapticsim.perception.tactile.mechanics import (
     ContactSolution,
+    cylinder_depth,
+    fem_layer_line_press,
     fem_layer_press,
     fem_pad_press,
     fem_punch_press,
     grid_radii,
+    hertz_cylinder,
     hertz_sphere,
     layer_pressure,
     punch_half_space,
     sphere_depth,
+    winkler_cylinder,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.presets import load_skin
@@ -103,7 +109,8 @@ def table(resolution: int = 48) -> dict[str, Any]:
     return {"pad_radius_mm": radius * 1e3, "thickness_mm": skin.thickness * 1e3,
             "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
             "resolution": resolution, "rows": rows, "hertz_check": checks, "flat_pad": layer,
-            "held_out": held_out(skin.modulus), "boussinesq_check": boussinesq(skin.modulus)}
+            "held_out": held_out(skin.modulus), "boussinesq_check": boussinesq(skin.modulus),
+            "cylinders": cylinders(skin.modulus)}
 
 
 def _measures(pressure: np.ndarray, spacing: float) -> ContactSolution:
@@ -152,6 +159,52 @@ def held_out(modulus: float, spacing: float = 1e-4) -> list[dict[str, Any]]:
                 "winkler_over_fe": {"force": modulus / h * delta * np.pi * punch**2 / fe.force},
             })  # fmt: skip
     return out
+
+
+def cylinders(modulus: float, spacing: float = 1e-4) -> dict[str, Any]:
+    """A long cylinder (line contact): the plane-strain FE against Hertz's line contact (thick
+    layers) and the Winkler law (thin, Poisson's ratio 0); the layer law (the centre row of a
+    cylinder 12 thicknesses long each way) and the Winkler law against the FE."""
+    radius = FINGERTIP_RADIUS
+    checks = []
+    for h, nu, delta in ((0.05, 0.3, 2e-4), (0.2, 0.3, 2e-4), (0.2, 0.45, 2e-4)):
+        fe = fem_layer_line_press(modulus, nu, h, radius, delta, 48)
+        ref = hertz_cylinder(modulus, nu, radius, fe.force)
+        checks.append({"reference": "hertz", "thickness_mm": h * 1e3, "poisson": nu,
+                       "half_width": fe.contact_radius / ref.contact_radius,
+                       "peak_pressure": fe.peak_pressure / ref.peak_pressure})  # fmt: skip
+    for h in (0.001, 0.002):
+        fe = fem_layer_line_press(modulus, 0.0, h, radius, 5e-4, 48)
+        ref = winkler_cylinder(SkinModel(modulus, h), radius, 5e-4)
+        checks.append({"reference": "winkler", "thickness_mm": h * 1e3, "poisson": 0.0,
+                       "force": fe.force / ref.force,
+                       "peak_pressure": fe.peak_pressure / ref.peak_pressure})  # fmt: skip
+    rows = []
+    for h in (0.001, 0.002, 0.003):
+        for nu in (0.0, 0.45, 0.49):
+            for share in (0.1, 0.25, 0.5):
+                delta = share * h
+                fe = fem_layer_line_press(modulus, nu, h, radius, delta, 48)
+                p = layer_pressure(cylinder_depth(radius, delta, spacing, 12.0 * h), spacing,
+                                   modulus, nu, h)  # fmt: skip
+                centre = p[len(p) // 2]
+                law = ContactSolution(force=float(centre.sum() * spacing),
+                                      contact_radius=float((centre > 0).sum() * spacing / 2.0),
+                                      peak_pressure=float(centre.max()))  # fmt: skip
+                w = winkler_cylinder(SkinModel(modulus, h), radius, delta)
+                rows.append({"thickness_mm": h * 1e3, "poisson": nu,
+                             "indentation_mm": delta * 1e3, "fe_force_n_per_m": fe.force,
+                             "layer_over_fe": {"force": law.force / fe.force,
+                                               "half_width": law.contact_radius
+                                               / fe.contact_radius,
+                                               "peak_pressure": law.peak_pressure
+                                               / fe.peak_pressure},
+                             "winkler_over_fe": {"force": w.force / fe.force,
+                                                 "half_width": w.contact_radius
+                                                 / fe.contact_radius,
+                                                 "peak_pressure": w.peak_pressure
+                                                 / fe.peak_pressure}})  # fmt: skip
+    return {"radius_mm": radius * 1e3, "grid_mm": spacing * 1e3, "checks": checks, "rows": rows}
 
 
 def boussinesq(modulus: float) -> list[dict[str, Any]]:

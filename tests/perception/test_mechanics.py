@@ -11,16 +11,20 @@ import pytest
 
 from hapticsim.errors import InvalidInputError
 from hapticsim.perception.tactile.mechanics import (
+    cylinder_depth,
+    fem_layer_line_press,
     fem_layer_press,
     fem_pad_press,
     fem_punch_press,
     grid_radii,
+    hertz_cylinder,
     hertz_sphere,
     layer_forces,
     layer_kernel,
     layer_pressure,
     punch_half_space,
     sphere_depth,
+    winkler_cylinder,
     winkler_sphere,
 )
 from hapticsim.perception.tactile.skin import SkinModel
@@ -163,3 +167,42 @@ def test_a_flat_punch_on_a_thick_layer_is_boussinesq_and_the_layer_law_holds_a_p
     pressure = layer_pressure(np.where(r <= punch, 2e-4, -1.0), spacing, 2e5, 0.49, 0.002)
     fe = fem_punch_press(2e5, 0.49, 0.002, punch, 2e-4)
     assert pressure.sum() * spacing**2 == pytest.approx(fe.force, rel=0.05)
+
+
+def test_a_cylinder_in_plane_strain_meets_hertz_and_winkler() -> None:
+    """The line contact (issue 38 item 3's cylinder): the plane-strain FE of a thick layer is
+    Hertz's line contact for its load (measured at 200 mm, 24 elements: half-width -1.9 %, peak
+    -0.2 %; at 48: +0.04 %, -0.03 %), a thin layer of Poisson's ratio 0 the skin's Winkler law
+    (force -0.6 %, peak +0.2 % at 1 mm)."""
+    _skfem()
+    fe = fem_layer_line_press(2e5, 0.3, 0.2, 0.008, 2e-4)
+    ref = hertz_cylinder(2e5, 0.3, 0.008, fe.force)
+    assert fe.contact_radius == pytest.approx(ref.contact_radius, rel=0.03)
+    assert fe.peak_pressure == pytest.approx(ref.peak_pressure, rel=0.03)
+    assert ref.peak_pressure == pytest.approx(2 * fe.force / (math.pi * ref.contact_radius))
+    thin = fem_layer_line_press(2e5, 0.0, 0.001, 0.008, 5e-4)
+    w = winkler_cylinder(SkinModel(2e5, 0.001), 0.008, 5e-4)
+    assert w.force == pytest.approx(4 / 3 * w.peak_pressure * w.contact_radius)
+    assert thin.force == pytest.approx(w.force, rel=0.02)
+    assert thin.peak_pressure == pytest.approx(w.peak_pressure, rel=0.02)
+
+
+def test_the_layer_law_holds_a_long_cylinder() -> None:
+    """The layer law, written for axisymmetric presses, at a cylinder's centre row against the
+    plane-strain FE (measured over 1-3 mm layers, Poisson 0-0.49: force +0.4 to +8.5 %,
+    half-width -2.6 to +4.1 %, peak +0.4 to +7.7 %; here +1.5 %, +2.4 %, +1.5 %); the Winkler
+    law reads 0.14-1.0 of the force."""
+    _skfem()
+    spacing, radius, h, delta = 1e-4, 0.008, 0.002, 5e-4
+    pressure = layer_pressure(cylinder_depth(radius, delta, spacing, 12 * h), spacing, 2e5,
+                              0.45, h)  # fmt: skip
+    centre = pressure[len(pressure) // 2]
+    fe = fem_layer_line_press(2e5, 0.45, h, radius, delta)
+    assert centre.sum() * spacing == pytest.approx(fe.force, rel=0.05)
+    assert (centre > 0).sum() * spacing / 2 == pytest.approx(fe.contact_radius, rel=0.06)
+    assert centre.max() == pytest.approx(fe.peak_pressure, rel=0.05)
+    # the rows far from the ends carry the same line force (plane strain in the middle)
+    rows = pressure.sum(axis=1) * spacing
+    middle = len(rows) // 2
+    assert rows[middle - 20 : middle + 21] == pytest.approx(rows[middle], rel=0.01)
+

@@ -10,6 +10,11 @@ Three references for a sphere of radius R pressed by an indentation delta:
   SkinModel`, a Winkler foundation ``p = E d / h``): ``a = sqrt(2 R delta)``,
   ``F = pi E R delta^2 / h``, ``p0 = E delta / h``; exact for a thin layer (contact radius
   several thicknesses) of a material without lateral coupling (Poisson's ratio 0);
+For a long cylinder (a line contact, per metre of length): :func:`hertz_cylinder` (half-width
+``b = sqrt(4 R F' / (pi E*))``, ``p0 = 2 F' / (pi b)``), :func:`winkler_cylinder`
+(``F' = 4/3 (E / h) delta a``) and :func:`fem_layer_line_press` (the flat layer's FE in plane
+strain).
+
 - :func:`fem_layer_press` and :func:`fem_pad_press`: a finite-element solution of linear
   elasticity (axisymmetric, quadratic triangles, scikit-fem) with frictionless contact found by
   an active set, for any thickness and Poisson's ratio: a flat layer bonded to a rigid base
@@ -121,15 +126,18 @@ def _lame(modulus: float, poisson: float) -> tuple[float, float]:
             modulus / (2.0 * (1.0 + poisson)))  # fmt: skip
 
 
-def _stiffness(skfem: Any, basis: Any, modulus: float, poisson: float) -> Any:
-    """The stiffness matrix of axisymmetric linear elasticity on `basis` (x = r, y = z)."""
+def _stiffness(skfem: Any, basis: Any, modulus: float, poisson: float,
+               plane: bool = False) -> Any:  # fmt: skip
+    """The stiffness matrix of axisymmetric linear elasticity on `basis` (x = r, y = z), or of
+    plane strain (x across, y = z; per metre of length) when `plane`."""
     from skfem.helpers import grad
 
     lam, mu = _lame(modulus, poisson)
 
     def strains(u: Any, r: Array) -> tuple[Any, ...]:
         g = grad(u)  # g[i][j] = d u_i / d x_j
-        return g[0][0], g[1][1], u[0] / r, 0.5 * (g[0][1] + g[1][0])
+        hoop = 0.0 * g[0][0] if plane else u[0] / r
+        return g[0][0], g[1][1], hoop, 0.5 * (g[0][1] + g[1][0])
 
     @skfem.BilinearForm
     def stiffness(u: Any, v: Any, w: Any) -> Any:
@@ -137,7 +145,8 @@ def _stiffness(skfem: Any, basis: Any, modulus: float, poisson: float) -> Any:
         eu, ev = strains(u, r), strains(v, r)
         tu, tv = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
         shear = eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2] + 2.0 * eu[3] * ev[3]
-        return (lam * tu * tv + 2.0 * mu * shear) * r  # per radian of the revolution
+        weight = 1.0 if plane else r  # per metre of length, or per radian of the revolution
+        return (lam * tu * tv + 2.0 * mu * shear) * weight
 
     return skfem.asm(stiffness, basis)
 
@@ -145,9 +154,11 @@ def _stiffness(skfem: Any, basis: Any, modulus: float, poisson: float) -> Any:
 def _solve(
     mesh: Any, modulus: float, poisson: float, fixed: Callable[[Array], Array],
     surface: Callable[[Array], Array], gap: Callable[[Array, Array], Array], sign: float,
-    probe: Callable[[Array], Array], probe_radii: Array,
+    probe: Callable[[Array], Array], probe_radii: Array, plane: bool = False,
 ) -> ContactSolution:  # fmt: skip
-    """Axisymmetric linear elasticity on `mesh` (x = r, y = z) with frictionless contact.
+    """Axisymmetric linear elasticity on `mesh` (x = r, y = z) with frictionless contact, or
+    plane strain when `plane` (x across, the symmetry plane at x = 0; the force per metre of
+    length, both halves).
 
     `fixed` (facet midpoints -> bool) is bonded (no displacement); the axis has no radial
     displacement; on the `surface` facets the vertical displacement of a node at (r, z) must not
@@ -159,7 +170,7 @@ def _solve(
 
     lam, mu = _lame(modulus, poisson)
     basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
-    k = _stiffness(skfem, basis, modulus, poisson)
+    k = _stiffness(skfem, basis, modulus, poisson, plane)
     bonded = basis.get_dofs(fixed).all()
     axis = basis.get_dofs(lambda x: x[0] < 1e-12).all("u^1")
     top = basis.get_dofs(surface).all("u^2")
@@ -188,11 +199,13 @@ def _solve(
     field = basis.interpolate(u)
     g = grad(field)
     r_q = np.asarray(basis.global_coordinates())[0]
-    szz = lam * (g[0][0] + g[1][1] + np.asarray(field[0]) / r_q) + 2.0 * mu * g[1][1]
+    hoop = 0.0 if plane else np.asarray(field[0]) / r_q
+    szz = lam * (g[0][0] + g[1][1] + hoop) + 2.0 * mu * g[1][1]
     stress = scalar.project(szz)
     pressure = -(scalar.probes(probe(probe_radii)) @ stress)  # compression is negative
     return ContactSolution(
-        force=float(2.0 * np.pi * np.sum(reaction[active])), contact_radius=edge,
+        force=float((2.0 if plane else 2.0 * np.pi) * np.sum(reaction[active])),
+        contact_radius=edge,
         peak_pressure=float(pressure[0]), radii=probe_radii, pressure=pressure,
     )  # fmt: skip
 
@@ -224,6 +237,44 @@ def fem_punch_press(modulus: float, poisson: float, thickness: float, punch_radi
     return _layer(modulus, poisson, thickness, punch_radius, gap, resolution)
 
 
+def fem_layer_line_press(modulus: float, poisson: float, thickness: float, radius: float,
+                         indentation: float, resolution: int = 24) -> ContactSolution:  # fmt: skip
+    """A flat layer (`thickness` [m], bonded to a rigid base) under a long rigid cylinder of
+    `radius` pressed `indentation` into it, in plane strain: ``force`` per metre of length
+    [N/m], ``contact_radius`` the contact's half-width [m]; FE (module docstring)."""
+    _check(modulus, poisson, radius, indentation)
+    a = math.sqrt(2.0 * radius * indentation)
+
+    def gap(xx: Array, zz: Array) -> Array:
+        return radius - np.sqrt(np.maximum(radius**2 - xx**2, 0.0)) - indentation
+
+    return _layer(modulus, poisson, thickness, a, gap, resolution, plane=True)
+
+
+def hertz_cylinder(modulus: float, poisson: float, radius: float,
+                   line_force: float) -> ContactSolution:  # fmt: skip
+    """Hertz's line contact: a long rigid cylinder on an elastic half-space carrying
+    `line_force` [N/m]: half-width ``b = sqrt(4 R F' / (pi E*))``, ``p(x) = p0 sqrt(1 -
+    x^2/b^2)`` with ``p0 = 2 F' / (pi b)``. (The half-space has no finite indentation in plane
+    strain: the load is given.)"""
+    _check(modulus, poisson, radius, 1e-9)
+    finite_float(line_force, "line_force", low=0.0)
+    e_star = modulus / (1.0 - poisson**2)
+    b = math.sqrt(4.0 * radius * line_force / (math.pi * e_star))
+    return ContactSolution(force=float(line_force), contact_radius=b,
+                           peak_pressure=2.0 * line_force / (math.pi * b) if b > 0 else 0.0)
+
+
+def winkler_cylinder(skin: Any, radius: float, indentation: float) -> ContactSolution:
+    """The skin's law for a long cylinder of `radius` pressed `indentation` into it, per metre
+    of length: half-width ``a = sqrt(2 R delta)``, ``F' = 4/3 (E / h) delta a``, ``p0 = E delta /
+    h``."""
+    _check(skin.modulus, 0.0, radius, indentation)
+    a = math.sqrt(2.0 * radius * indentation)
+    return ContactSolution(force=4.0 / 3.0 * skin.stiffness * indentation * a,
+                           contact_radius=a, peak_pressure=float(skin.pressure(indentation)))
+
+
 def punch_half_space(modulus: float, poisson: float, punch_radius: float,
                      indentation: float) -> ContactSolution:  # fmt: skip
     """Boussinesq's flat punch on a half-space: ``F = 2 E* a delta``, the pressure
@@ -235,8 +286,10 @@ def punch_half_space(modulus: float, poisson: float, punch_radius: float,
 
 
 def _layer(modulus: float, poisson: float, thickness: float, a: float,
-           gap: Callable[[Array, Array], Array], resolution: int) -> ContactSolution:  # fmt: skip
-    """The FE press of a flat bonded layer by an indenter of contact radius about `a`."""
+           gap: Callable[[Array, Array], Array], resolution: int,
+           plane: bool = False) -> ContactSolution:  # fmt: skip
+    """The FE press of a flat bonded layer by an indenter of contact radius (half-width) about
+    `a`, axisymmetric or in plane strain."""
     finite_float(thickness, "thickness", low=1e-7, high=1.0)
     skfem = _fem()
     step = 1.5 * a / int(resolution)
@@ -252,6 +305,7 @@ def _layer(modulus: float, poisson: float, thickness: float, a: float,
         sign=-1.0,
         probe=lambda q: np.vstack([q, np.full_like(q, thickness - 0.005 * min(thickness, a))]),
         probe_radii=np.linspace(0.0, 1.3 * a, 53),
+        plane=plane,
     )  # fmt: skip
 
 
@@ -411,6 +465,20 @@ def sphere_depth(radius: float, indentation: float, spacing: float) -> Array:
     return indentation - (radius - np.sqrt(np.maximum(radius**2 - r**2, 0.0)))
 
 
+def cylinder_depth(radius: float, indentation: float, spacing: float,
+                   half_length: float) -> Array:  # fmt: skip
+    """The depth image [m] of a rigid cylinder of `radius` (its axis along the rows) pressed
+    `indentation` into a flat pad, `half_length` [m] each way from the centre row, on a grid of
+    `spacing` reaching 1.3 Winkler half-widths across; odd sides, the centre row in the middle
+    (its pressure stands for the plane-strain section)."""
+    a = math.sqrt(2.0 * radius * indentation)
+    cols = int(np.ceil(2.0 * 1.3 * a / spacing)) | 1
+    rows = int(np.ceil(2.0 * half_length / spacing)) | 1
+    x = (np.arange(cols) - cols // 2) * spacing
+    profile = indentation - (radius - np.sqrt(np.maximum(radius**2 - x**2, 0.0)))
+    return np.broadcast_to(profile, (rows, cols)).copy()
+
+
 def layer_pressure(depth: Array, spacing: float, modulus: float, poisson: float,
                    thickness: float) -> Array:  # fmt: skip
     """Pressure [Pa] (rows, cols) of a `depth` image [m] on a grid of `spacing` [m] for a layer
@@ -421,7 +489,8 @@ def layer_pressure(depth: Array, spacing: float, modulus: float, poisson: float,
 
 
 __all__ = [
-    "ContactSolution", "LayerKernel", "fem_layer_press", "fem_pad_press", "fem_punch_press",
-    "grid_radii", "hertz_sphere", "layer_forces", "layer_kernel", "layer_pressure",
-    "punch_half_space", "sphere_depth", "winkler_sphere",
+    "ContactSolution", "LayerKernel", "cylinder_depth", "fem_layer_line_press", "fem_layer_press",
+    "fem_pad_press", "fem_punch_press", "grid_radii", "hertz_cylinder", "hertz_sphere",
+    "layer_forces", "layer_kernel", "layer_pressure", "punch_half_space", "sphere_depth",
+    "winkler_cylinder", "winkler_sphere",
 ]  # fmt: skip
