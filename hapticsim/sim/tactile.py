@@ -41,6 +41,7 @@ float32 vertices (``tests/sim/test_tactile.py``, ``docs/tactile/README.md``).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import mujoco
@@ -214,6 +215,19 @@ class SensedContact:
     reading: TactileReading
 
 
+def tip_object_contacts(data: mujoco.MjData, objects: set[int],
+                        tip_finger: dict[int, int]) -> Iterator[tuple[int, int, bool]]:  # fmt: skip
+    """MuJoCo's active contacts between a finger's touching geom (`tip_finger`: geom id ->
+    finger) and the object's geoms: (contact index, finger, whether the object is
+    ``geom[0]``)."""
+    con = data.contact
+    for i, (g0, g1) in enumerate(con.geom.tolist()):
+        first = g0 in objects
+        finger = tip_finger.get(g1 if first else g0, -1)
+        if finger >= 0 and (first or g1 in objects) and con.efc_address[i] >= 0:
+            yield i, finger, first
+
+
 def finger_forces(model: mujoco.MjModel, data: mujoco.MjData, objects: set[int],
                   tip_finger: dict[int, int], fingers: int) -> tuple[Array, Array]:  # fmt: skip
     """The object's force on every fingertip: the normal forces (fingers,) [N] and the
@@ -226,16 +240,20 @@ def finger_forces(model: mujoco.MjModel, data: mujoco.MjData, objects: set[int],
     normal = np.zeros(fingers)
     force6 = np.zeros(6)
     con = data.contact
-    for i, (g0, g1) in enumerate(con.geom.tolist()):
-        first = g0 in objects
-        finger = tip_finger.get(g1 if first else g0, -1)
-        if finger < 0 or not (first or g1 in objects) or con.efc_address[i] < 0:
-            continue
+    for i, finger, first in tip_object_contacts(data, objects, tip_finger):
         mujoco.mj_contactForce(model, data, i, force6)
         tangential = con.frame[i].reshape(3, 3)[1:].T @ force6[1:3]
         shear[finger] += tangential if first else -tangential
         normal[finger] += max(float(force6[0]), 0.0)
     return normal, shear
+
+
+def _at_rest(rot: Array, t: Array, moved: tuple[Array, Array] | None) -> tuple[Array, Array]:
+    """A pad carrier's pose (`rot`, `t`) in the frame of the object at rest, given a free
+    object's motion from rest (`moved`: rotation, translation; None: a fixed object)."""
+    if moved is None:
+        return rot, t
+    return moved[0].T @ rot, moved[0].T @ (t - moved[1])
 
 
 def pad_loads(normal: Array, shear: Array, rotations: Array, layouts: tuple[PadLayout, ...],
@@ -467,9 +485,7 @@ class TactileHand:
             block = data.sensordata[pad.sensor_adr : pad.sensor_adr + pad.layout.count]
             return np.asarray(block).reshape(rows, cols)
         truth = self.scene.truth
-        rot_o, t_o = rot, t  # the pad in the frame of the object at rest
-        if moved is not None:
-            rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
+        rot_o, t_o = _at_rest(rot, t, moved)
         reach = float(truth.bounding_radius) + pad.reach + pad.layout.pitch * max(rows, cols)
         if np.linalg.norm(t_o - np.asarray(truth.center)) > reach:
             return np.zeros((rows, cols))  # nowhere near the object
@@ -501,11 +517,9 @@ class TactileHand:
         keep = distance <= near[1]
         if not keep.any():
             return self.pad_force(data, finger)
-        truth = self.scene.truth
-        rot_o, t_o = rot, t
-        if moved is not None:
-            rot_o, t_o = moved[0].T @ rot, moved[0].T @ (t - moved[1])
-        depth = taxel_depths(truth, pos[keep] @ rot_o.T + t_o, nrm[keep] @ rot_o.T, pad.reach)
+        rot_o, t_o = _at_rest(rot, t, moved)
+        depth = taxel_depths(self.scene.truth, pos[keep] @ rot_o.T + t_o, nrm[keep] @ rot_o.T,
+                             pad.reach)  # fmt: skip
         if np.any(depth[distance[keep] > near[1] - 1.5 * pad.layout.pitch] > 0):
             return self.pad_force(data, finger)  # the contact reaches the disc's edge
         return float(np.sum(self.skin.skin.pressure(depth) * area[keep]))
@@ -537,12 +551,8 @@ class TactileHand:
         quadratic, linear, deepest = np.zeros(n), np.zeros(n), np.zeros(n)
         where = np.zeros((n, 3))
         con = data.contact
-        for i, (g0, g1) in enumerate(con.geom.tolist()):
-            first = g0 in self._objects
-            finger = self._tip_finger.get(g1 if first else g0, -1)
+        for i, finger, _ in tip_object_contacts(data, self._objects, self._tip_finger):
             adr = int(con.efc_address[i])
-            if finger < 0 or not (first or g1 in self._objects) or adr < 0:
-                continue
             penetration = -float(con.dist[i])
             if penetration <= 0.0:
                 continue
@@ -639,4 +649,5 @@ __all__ = [
     "pad_loads",
     "prepare_skin",
     "skin_solref",
+    "tip_object_contacts",
 ]
