@@ -141,6 +141,23 @@ class Solid(ABC):
                 step = step / (grids[level + 1] - 1)  # the next grid spans one step of this one
         return np.where(hit, lo + step, np.nan)  # the first sample inside
 
+    def segment_depths(
+        self, points: Array, normals: Array, reach: float, grids: tuple[int, ...]
+    ) -> Array:
+        """(k,) float, how deep each point (k, 3) [m, world] lies inside the solid along its
+        inward unit normal (normals (k, 3), outward): 0 outside, else ``reach - s``, s where
+        the segment from ``p - reach m`` along ``m`` enters the solid (:meth:`first_hits` on
+        `grids`; 0 when it finds no entry). The tactile depth model's
+        (:func:`hapticsim.perception.tactile.depth.taxel_depths`); a kind may do it faster."""
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        m = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+        out = np.zeros(len(p))
+        inside = np.flatnonzero(self.contains(p)) if len(p) else np.zeros(0, dtype=np.int64)
+        if len(inside):  # only a point inside has a depth: cast only those rays
+            s = self.first_hits(p[inside] - reach * m[inside], m[inside], reach, grids)
+            out[inside] = np.where(np.isnan(s), 0.0, np.maximum(reach - s, 0.0))
+        return out
+
     # ----------------------------------------------------------------- measures
     @property
     @abstractmethod

@@ -457,6 +457,22 @@ class Superquadric(Solid):
                    1.0001 * self.bounding_radius, out)  # fmt: skip
         return out
 
+    def segment_depths(
+        self, points: Array, normals: Array, reach: float, grids: tuple[int, ...]
+    ) -> Array:
+        """:meth:`Solid.segment_depths`, compiled in one pass
+        (:func:`hapticsim.geometry._rays_compiled.segment_depths`: the inside test is ``log F
+        <= 0``)."""
+        from hapticsim.geometry._rays_compiled import segment_depths
+        from hapticsim.geometry.eof_compiled import unpack
+
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3).T)
+        m = np.ascontiguousarray(np.asarray(normals, dtype=np.float64).reshape(-1, 3).T)
+        out = np.empty(p.shape[1])
+        segment_depths(p, m, float(reach), np.asarray(grids, dtype=np.int64), *unpack(self),
+                       1.0001 * self.bounding_radius, out)  # fmt: skip
+        return out
+
     # ----------------------------------------------------------------- Solid: pieces, pose
     def surface_mesh(self, resolution: int = 40) -> tuple[Array, NDArray[np.int64]]:
         """Vertices and faces of its mesh (:func:`hapticsim.geometry.mesh.surface_grid`)."""

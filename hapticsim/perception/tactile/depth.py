@@ -10,8 +10,9 @@ lies inside the object:
 
 0 when ``p`` lies outside (``reach`` is the pad's radius: the segment runs from the fingertip
 sphere's centre; only the taxels inside are cast). The surface point ``p - d m`` lies on the
-object. The ray cast is :func:`hapticsim.geometry.rays.raycast_many`'s: compiled on a
-superquadric, on the solid's inside test (``contains``: a mesh, a union) otherwise, on the grids
+object. The ray cast is the solid's own (:meth:`~hapticsim.geometry.solid.Solid.segment_depths`:
+compiled in one pass with the inside test on a superquadric, ``contains`` and
+:func:`hapticsim.geometry.rays.raycast_many` otherwise: a mesh, a union), on the grids
 :data:`TAXEL_GRIDS` (the segment's end, the taxel, is always a sample, so a shallow taxel is never
 missed): its resolution is ``reach / 23625`` (0.34 um on an 8 mm fingertip), in at most 56
 evaluations of the inside test per taxel.
@@ -32,7 +33,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float
-from hapticsim.geometry.rays import raycast_many
 
 Array = NDArray[np.float64]
 
@@ -46,8 +46,7 @@ def taxel_depths(solid: Any, positions: Array, normals: Array, reach: float) -> 
     """Depths [m] of taxels inside a solid, along their inward normals (module docstring).
 
     Args:
-        solid: a Superquadric, or anything with ``contains(points (k, 3)) -> (k,) bool`` and
-            ``center``, ``bounding_radius`` (a MeshSolid, a union), in the world frame.
+        solid: a :class:`~hapticsim.geometry.solid.Solid` in the world frame.
         positions: (..., 3) float, taxel positions [m, world].
         normals: (..., 3) float, the taxels' outward unit normals [world].
         reach: the distance from the fingertip's core to the taxels [m], > 0 (the pad's radius):
@@ -60,12 +59,7 @@ def taxel_depths(solid: Any, positions: Array, normals: Array, reach: float) -> 
     nrm = np.asarray(normals, dtype=np.float64)
     length = finite_float(reach, "reach", low=1e-9)
     shape = pos.shape[:-1]
-    p, m = pos.reshape(-1, 3), nrm.reshape(-1, 3)
-    out = np.zeros(len(p))
-    inside = np.flatnonzero(solid.contains(p)) if len(p) else np.zeros(0, dtype=np.int64)
-    if len(inside):  # only a taxel inside the object has a depth: cast only those rays
-        s = raycast_many(solid, p[inside] - length * m[inside], m[inside], length, TAXEL_GRIDS)
-        out[inside] = np.where(np.isnan(s), 0.0, np.maximum(length - s, 0.0))
+    out = solid.segment_depths(pos.reshape(-1, 3), nrm.reshape(-1, 3), length, TAXEL_GRIDS)
     return out.reshape(shape)
 
 

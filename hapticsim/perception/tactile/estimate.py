@@ -122,12 +122,10 @@ def _fit_quadratic(uv: Array, d: Array) -> tuple[Array, Array, float] | None:
     u, v = uv[:, 0], uv[:, 1]
     design = np.column_stack([np.ones_like(u), u, v, u * u, u * v, v * v])
     normal = design.T @ design
-    try:
-        inv = np.linalg.inv(normal)
-    except np.linalg.LinAlgError:
+    scales, vectors = np.linalg.eigh(normal)  # symmetric: its condition number and inverse
+    if not scales[0] > 0 or scales[-1] > 1e12 * scales[0]:
         return None
-    if not np.all(np.isfinite(inv)) or np.linalg.cond(normal) > 1e12:
-        return None
+    inv = (vectors / scales) @ vectors.T
     coef = inv @ (design.T @ d)
     dof = max(len(d) - 6, 1)
     var = float(np.sum((design @ coef - d) ** 2) / dof)
