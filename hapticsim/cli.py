@@ -228,6 +228,7 @@ def _explore_from_args(args: argparse.Namespace) -> dict:
         sensing=args.sensing,
         skin=args.skin,
         taxel_model=args.taxel_model,
+        steer_on=args.steer_on,
         holes=args.holes,
         object_dynamics=_dynamics_from_args(args),
         force_limit=args.force_limit,
@@ -424,6 +425,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--taxel-model", default="hapticsim", choices=("hapticsim", "mujoco"),
         help="with --sensing tactile: hapticsim's own taxel model against the exact solid "
         "(default) or MuJoCo's <tactile> sensor",
+    )  # fmt: skip
+    p.add_argument(
+        "--steer-on", default="skin", choices=("skin", "contacts"),
+        help="with --sensing tactile: what probing and contour following steer on: the "
+        "skin's estimated contacts, read every control tick (default), or MuJoCo's contacts",
     )  # fmt: skip
     p.add_argument(
         "--object-dynamics", choices=("fixed", "resting", "held"), default="fixed",

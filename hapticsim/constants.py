@@ -27,6 +27,9 @@ MAX_INT: int = 2**62
 MAX_CONTACTS: int = 1_000_000
 #: How contacts are sensed: MuJoCo's exact contacts, or estimated from taxel pads (SPEC §11).
 SENSINGS: tuple[str, ...] = ("exact", "tactile")
+#: What a tactile hand's controllers steer on (SPEC §11): the skin's estimated contacts, or
+#: MuJoCo's contact list (as before the skin closed the loop).
+STEERINGS: tuple[str, ...] = ("skin", "contacts")
 #: Contacts an exploration must gather to count as a success (a fit needs 13).
 MIN_CONTACTS: int = 20
 #: Contacts an exploration gathers by default (paper IV).

@@ -24,7 +24,8 @@ def make_backend(config: Any) -> TouchBackend:
     from hapticsim.envs.mujoco_backend import MujocoBackend
     from hapticsim.sim.scene import SceneConfig
 
-    scene = SceneConfig(object_dynamics=config.object_dynamics, force_limit=config.force_limit)
+    scene = SceneConfig(object_dynamics=config.object_dynamics, force_limit=config.force_limit,
+                        steer_on=config.steer_on)  # fmt: skip
     return MujocoBackend(
         noise=config.noise, stroke_spacing=config.stroke_spacing, hand=config.hand,
         sensing=config.sensing, skin=config.skin, scene_config=scene,

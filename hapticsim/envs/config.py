@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES, SENSINGS
+from hapticsim.constants import SCORE_CHAMFER_POINTS, SCORE_SAMPLES, SENSINGS, STEERINGS
 from hapticsim.data.distributions import ObjectDistribution, ObjectSet
 from hapticsim.envs.backends import BACKENDS
 from hapticsim.envs.estimator import FitSchedule
@@ -81,6 +81,10 @@ class HapticExploreConfig:
             (``hapticsim/HapticExploreTactile-v0`` adds the taxel images).
         skin: with tactile sensing, the skin: a preset (``"ideal"``, ``"vision"``,
             ``"capacitive"``) or a ``.toml`` skin file (stored as the loaded preset).
+        steer_on: with tactile sensing on the MuJoCo backend, what the hand's controllers steer
+            on: ``"skin"`` (default: each touching pad's estimated contact) or ``"contacts"``
+            (MuJoCo's; :class:`~hapticsim.sim.scene.SceneConfig`). The analytic backend has no
+            controllers: its touches are ray casts.
         object_dynamics: the MuJoCo backend's object (SPEC §12): ``"fixed"`` (default),
             ``"resting"`` or ``"held"``, or an :class:`~hapticsim.sim.dynamics.ObjectDynamics`
             (stored as one); info's ``object_moved`` [m] and ``object_turned`` [deg] say how
@@ -114,6 +118,7 @@ class HapticExploreConfig:
     height: int = 360
     sensing: str = "exact"
     skin: Any = "ideal"
+    steer_on: str = "skin"
     object_dynamics: Any = "fixed"
     force_limit: float | None = None
     displacement_penalty: float = 0.0
@@ -170,6 +175,8 @@ class HapticExploreConfig:
             object.__setattr__(self, "compute_metrics", True)
         if self.sensing not in SENSINGS:
             raise ChoiceError("sensing", self.sensing, SENSINGS)
+        if self.steer_on not in STEERINGS:
+            raise ChoiceError("steer_on", self.steer_on, STEERINGS)
         from hapticsim.perception.tactile import load_skin
         from hapticsim.sim.dynamics import dynamics_arg
 

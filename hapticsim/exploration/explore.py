@@ -84,6 +84,7 @@ def explore(
     sensing: str = "exact",
     skin: Any = None,
     taxel_model: str = "hapticsim",
+    steer_on: str = "skin",
     holes: bool = False,
     object_dynamics: Any = "fixed",
     force_limit: float | None = None,
@@ -121,6 +122,9 @@ def explore(
             ``"capacitive"``) or a ``.toml`` skin file.
         taxel_model: with tactile sensing, ``"hapticsim"`` (its own taxel model, default) or
             ``"mujoco"`` (MuJoCo's ``<tactile>`` sensor).
+        steer_on: with tactile sensing, what the controllers steer on: ``"skin"`` (default:
+            each touching pad's estimated contact, every control tick) or ``"contacts"``
+            (MuJoCo's contact point and normal; :class:`~hapticsim.sim.scene.SceneConfig`).
         holes: with ``method="multi"``, also fit a supertoroid and keep it where it explains
             the contacts better (:func:`hapticsim.fitting.fit`'s ``holes``).
         object_dynamics: how the object is held (SPEC §12): ``"fixed"`` (default),
@@ -143,7 +147,7 @@ def explore(
             a mesh that is empty, not watertight or of an unknown format, or a bad noise level,
             seed, scale or pose, an unknown or invalid hand (naming the element), a video
             format whose encoder is not installed, or an unknown sensing, skin or taxel model
-            (a skin file that does not parse names the key).
+            (a skin file that does not parse names the key), or a steering without tactile sensing.
         SimulationError: the object is too large or too far for the hand, the simulation went
             unstable, or too few contacts were gathered.
     """
@@ -159,13 +163,15 @@ def explore(
         spec = object_name
     else:
         spec = ObjectSpec(object_name, scale=scale, pose=pose)
-    if sensing != "tactile" and (skin is not None or taxel_model != "hapticsim"):
+    if sensing != "tactile" and (skin is not None or taxel_model != "hapticsim"
+                                 or steer_on != "skin"):  # fmt: skip
         raise InvalidInputError(
-            "`skin` and `taxel_model` are for tactile sensing (--sensing tactile), got "
-            f"sensing {sensing!r}"
+            "`skin`, `taxel_model` and `steer_on` are for tactile sensing (--sensing tactile), "
+            f"got sensing {sensing!r}"
         )
     scene = SceneConfig(hand=hand, sensing=sensing, skin="ideal" if skin is None else skin,
-                        taxel_model=taxel_model, object_dynamics=object_dynamics,
+                        taxel_model=taxel_model, steer_on=steer_on,
+                        object_dynamics=object_dynamics,
                         force_limit=force_limit)  # fmt: skip
     trial = Trial(object=spec, explorer=strategy, count=count, noise=noise, estimator=method,
                   seed=seed, scene=scene, holes=holes)  # fmt: skip
@@ -337,6 +343,7 @@ def _write(
     if tactile:
         metrics["skin"] = trial.scene.skin.to_dict()
         metrics["taxel_model"] = trial.scene.taxel_model
+        metrics["steer_on"] = trial.scene.steer_on
         metrics["contact_accuracy_exact"] = record.accuracy_exact
         metrics["tactile"] = _tactile_summary(run)
     keys = ("points_clean", "normals_clean", "finger", "force", "time", "pattern")

@@ -119,6 +119,7 @@ class PolicyExplorer:
         )  # fmt: skip
         backend = env.unwrapped.backend
         backend.scene_config = replace(backend.scene_config, taxel_model=config.taxel_model,
+                                       steer_on=config.steer_on,
                                        object_dynamics=config.object_dynamics,
                                        force_limit=config.force_limit)  # fmt: skip
         agent = make_policy(self.name, env, rng=policy_seed)

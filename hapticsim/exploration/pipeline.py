@@ -323,6 +323,8 @@ def reproduce_hint(trial: Trial) -> str:
         args += f" --sensing tactile --skin {scene.skin.name}"
         if scene.taxel_model != "hapticsim":
             args += f" --taxel-model {scene.taxel_model}"
+        if scene.steer_on != "skin":
+            args += f" --steer-on {scene.steer_on}"
     return (f"{text}; to reproduce: hapticsim explore --object {spec.source} --strategy "
             f"{trial.explorer} --seed {trial.seed} --count {trial.count}{args}")  # fmt: skip
 

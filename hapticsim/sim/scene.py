@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim._validate import finite_float, positive_int
-from hapticsim.constants import DEFAULT_FRICTION, SENSINGS
+from hapticsim.constants import DEFAULT_FRICTION, SENSINGS, STEERINGS
 from hapticsim.errors import ChoiceError, InvalidInputError, SimulationError
 from hapticsim.geometry import Superquadric, matrix_to_quaternion
 from hapticsim.geometry.solid import Solid, solid_arg
@@ -87,6 +87,12 @@ class SceneConfig:
         taxel_model: with tactile sensing, where taxel depths come from:
             ``"hapticsim"`` (its own model against the exact solid) or ``"mujoco"`` (MuJoCo's
             ``<tactile>`` sensor).
+        steer_on: with tactile sensing, what the probing and contour-following controllers
+            steer on: ``"skin"`` (default: each touching pad's contact, force and normal
+            estimated from its reading every control tick, :meth:`~hapticsim.sim.simulator.
+            Simulator.touch`) or ``"contacts"`` (MuJoCo's contact point and normal with the
+            skin's force law, as before the skin closed the loop); exact sensing steers on
+            MuJoCo's contacts.
         object_dynamics: how the object is held (SPEC §12): ``"fixed"`` (default, a static
             body), ``"resting"`` or ``"held"``, or an
             :class:`~hapticsim.sim.dynamics.ObjectDynamics` with its mass or density and clamp
@@ -105,6 +111,7 @@ class SceneConfig:
     sensing: str = "exact"
     skin: SkinPreset | str = "ideal"
     taxel_model: str = "hapticsim"
+    steer_on: str = "skin"
     object_dynamics: ObjectDynamics | str = "fixed"
     force_limit: float | None = None
 
@@ -120,6 +127,8 @@ class SceneConfig:
         object.__setattr__(self, "skin", load_skin(self.skin))
         if self.taxel_model not in TAXEL_MODELS:
             raise ChoiceError("taxel_model", self.taxel_model, TAXEL_MODELS)
+        if self.steer_on not in STEERINGS:
+            raise ChoiceError("steer_on", self.steer_on, STEERINGS)
         positive_int(self.mesh_resolution, "mesh_resolution", minimum=16)
         finite_float(self.friction, "friction", 0.0, 1.0)
         if not 0.0 < finite_float(self.timestep, "timestep") <= 0.005:

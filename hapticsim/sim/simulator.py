@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from hapticsim._validate import finite_array, positive_fields, positive_int
 from hapticsim.errors import SimulationError
 from hapticsim.sim._vec import norm
-from hapticsim.sim.contacts import ContactState, fingertip_contacts
+from hapticsim.sim.contacts import ContactState, FingertipContact, fingertip_contacts
 from hapticsim.sim.dls import dls_step
 from hapticsim.sim.mujoco_log import take_last_warning
 from hapticsim.sim.scene import Scene
@@ -66,6 +66,12 @@ class ServoConfig:
             mocap through a stiff weld (``solref`` 0.008 s), so it lags it by about
             ``transit_speed * 0.008`` = 2.4 cm, well inside the explorer's safety margin.
         transit_angular_speed: largest palm angular speed in free space [rad/s].
+        skin_period: control ticks per frame of a tactile servo's pads (a tactile hand steering
+            on its skin, :meth:`Simulator.touch`): 3 reads them at 83 Hz with the default
+            ticks, between a vision-based pad's camera (25-60 Hz) and a taxel array (100 Hz
+            and up). Each frame costs a pad's reading and estimate (about 0.3 ms): at 2 the
+            tactile environment ran at 0.49 of exact sensing's steps per CPU second, at 3 at
+            0.54 (``docs/tactile/servo``).
     """
 
     control_steps: int = 4
@@ -75,9 +81,11 @@ class ServoConfig:
     palm_angular_speed: float = 4.0
     transit_speed: float = 3.0
     transit_angular_speed: float = 20.0
+    skin_period: int = 3
 
     def __post_init__(self) -> None:
         positive_int(self.control_steps, "control_steps")
+        positive_int(self.skin_period, "skin_period")
         speeds = "palm_speed palm_angular_speed transit_speed transit_angular_speed"
         positive_fields(self, ["damping", "max_tip_error", *speeds.split()])
 
@@ -132,6 +140,8 @@ class Simulator:
         self.tick_hooks: list[Callable[[Simulator], None]] = []
         self._contacts = ContactState((None,) * n, 0, 0)
         self._contacts_stale = False
+        #: per finger, its pad's last frame (:meth:`touch`): (control tick, what it felt)
+        self._felt: dict[int, tuple[int, FingertipContact | None]] = {}
         # Views and ids used every control tick (MjData's arrays are views: no re-reading).
         self._warnings = self.data.warning.number  # (mjNWARNING,) int view
         self._rotvec = np.zeros(3)
@@ -146,6 +156,8 @@ class Simulator:
             rng = np.random.default_rng(0) if tactile_rng is None else tactile_rng
             self.tactile = TactileHand(scene, rng)
             self._skin_force = self.tactile.force_coefficients
+        #: whether the controllers steer on the skin's estimated contacts (:meth:`touch`)
+        self.steers_on_skin = self.tactile is not None and scene.config.steer_on == "skin"
         #: a free object's pose (7,) at the last reset (SPEC §12), else None.
         self.initial_object_pose = None
         #: the scene's force limit [N] (None: none): a fingertip pressing harder backs off.
@@ -164,6 +176,41 @@ class Simulator:
             )
             self._contacts_stale = False
         return self._contacts
+
+    def touch(self, finger: int) -> FingertipContact | None:
+        """What a finger's controller feels now (its contact, or None).
+
+        Exact sensing (or a tactile hand steering on ``"contacts"``): MuJoCo's contact
+        (:attr:`contacts`). A tactile hand steering on its skin (SPEC §11): the contact its pad
+        estimated from its latest frame (:meth:`~hapticsim.sim.tactile.TactileHand.feel`:
+        point, outward normal, and the force the reading integrates to, after the sensor model
+        with a fresh draw of its noise), None when no taxel was lit. A pad is read when first
+        asked for :attr:`ServoConfig.skin_period` control ticks after its last frame, and the
+        frame holds in between, as a sampled sensor's does. ``force_exact`` is MuJoCo's normal
+        force at the frame and ``dist`` minus the estimated depth. A fingertip MuJoCo has no
+        contact for reads nothing (its pad lies on it), and only the taxels near MuJoCo's
+        contact point are cast (the rest read nothing, as
+        :meth:`~hapticsim.sim.tactile.TactileHand.pad_force` checks)."""
+        exact = self.contacts.tips[finger]
+        if not self.steers_on_skin:
+            return exact
+        tick = self.steps // self.servo.control_steps
+        last = self._felt.get(finger)
+        if last is not None and tick - last[0] < self.servo.skin_period:
+            return last[1]
+        felt = None
+        if exact is not None:
+            near = self.tactile.near_contact(finger, exact.point_world, -exact.dist)
+            est, force = self.tactile.feel(self.data, finger, near)
+            self.tactile.follow_frame(finger, force, -exact.dist)
+            if est is not None:
+                felt = FingertipContact(
+                    finger=finger, point_world=est.point, normal_world=est.normal,
+                    force=est.force, dist=-est.depth, time=exact.time,
+                    force_exact=exact.force_exact,
+                )  # fmt: skip
+        self._felt[finger] = (tick, felt)
+        return felt
 
     @property
     def time(self) -> float:
@@ -194,6 +241,7 @@ class Simulator:
             self.model, self.data, self.hand, self.scene.object_geom_ids, self._skin_force
         )
         self._contacts_stale = False
+        self._felt.clear()
 
     def place(
         self,
@@ -241,6 +289,7 @@ class Simulator:
         self._palm_reached = True
         mujoco.mj_forward(m, d)
         self._contacts_stale = True
+        self._felt.clear()  # a frame from before the hand was moved
         for hook in self.tick_hooks:
             hook(self)
 
@@ -281,6 +330,7 @@ class Simulator:
         self.model.geom_solref[:] = solref
         mujoco.mj_forward(self.model, self.data)
         self._contacts_stale = True
+        self._felt.clear()
 
     def object_pose(self) -> Array | None:
         """A free object's pose now (7,: position [m], quaternion w first; SPEC §12), None for a
@@ -417,7 +467,7 @@ class Simulator:
         touch, its step toward the surface it touched is at most :data:`GENTLE_STEP` (a finger
         that strikes again at full speed after each back-off chatters at several times the
         limit: 1-1.5 N at a limit of 0.3 N on a cube's edge)."""
-        contact = self.contacts.tips[finger]
+        contact = self.touch(finger)
         if contact is not None and contact.force > 0.0:
             self._touched[finger] = (contact.normal_world, self.time + GENTLE_HOLD)
             if contact.force > self._force_limit:

@@ -59,7 +59,7 @@ from hapticsim.perception.tactile import (
     traction_field,
 )
 from hapticsim.perception.tactile.pad import PadError, default_up
-from hapticsim.perception.tactile.skin import PROBE_FORCE
+from hapticsim.perception.tactile.skin import PROBE_FORCE, FixedPattern
 from hapticsim.sim.hand import PREFIX
 from hapticsim.sim.hand_description import HandDescription
 
@@ -404,6 +404,9 @@ class TactileHand:
             raise InvalidInputError(f"every pad of a hand must have the same grid, got {shapes}")
         self.shape: tuple[int, int] = shapes.pop()
         self.pattern = self.skin.sensor.pattern((len(pads), *self.shape), rng)
+        #: each pad's share of the fixed pattern (:meth:`feel`)
+        self._patterns = [FixedPattern(self.pattern.gain[k : k + 1], self.pattern.dead[k : k + 1])
+                          for k in range(len(pads))]  # fmt: skip
         #: (fingers,) the skin's force coefficients ``pi E R / h`` [N/m^2] of each fingertip
         #: (its pad's sphere, or its tip radius under a flat pad).
         radii = [p.layout.radius or f.tip_radius for p, f in zip(pads, scene.hand.fingers,
@@ -506,23 +509,59 @@ class TactileHand:
         """
         pad = self.pads[finger]
         rot, t = self.pad_pose(data, pad)
+        return float(np.sum(self._pressure(data, pad, rot, t, near) * pad.layout.taxels[2]))
+
+    def feel(
+        self, data: mujoco.MjData, finger: int, near: tuple[Array, float] | None = None
+    ) -> tuple[TactileContact | None, float]:
+        """One frame of a finger's pad for a tactile servo: the contact estimated from its
+        reading now (after the sensor model, with a fresh draw of its noise; None when no taxel
+        is lit) and the skin's force before the sensor model [N] (:meth:`pad_force`). `near` as
+        in :meth:`pad_force` (the taxels outside read nothing: exact)."""
+        pad = self.pads[finger]
+        rot, t = self.pad_pose(data, pad)
+        pressure = self._pressure(data, pad, rot, t, near)
+        force = float(np.sum(pressure * pad.layout.taxels[2]))
+        reading = self.skin.sensor.apply(pressure[None], self._patterns[finger], self.rng)[0]
+        return estimate_contact(reading, pad.layout, rot, t, self.skin.skin,
+                                self.skin.sensor), force  # fmt: skip
+
+    def follow_frame(self, finger: int, force: float, penetration: float) -> None:
+        """Take a frame's skin force (:meth:`feel`) at MuJoCo's `penetration` [m] as the
+        finger's force law (:meth:`follow_skin`), which then needs no reading of its own while
+        frames come at least every :data:`SKIN_LAW_TICKS` ticks."""
+        if penetration > 0.0 and self._skin_law[finger] is not None:
+            self._skin_law[finger] = (force / penetration**2, 0)
+
+    def _pressure(self, data: mujoco.MjData, pad: Pad, rot: Array, t: Array,
+                  near: tuple[Array, float] | None) -> Array:  # fmt: skip
+        """One pad's pressure image (rows, cols) [Pa] before the sensor model, its carrier at
+        `rot`, `t`; `near` as in :meth:`pad_force`."""
         moved = self._object_motion(data)
-        area = pad.layout.taxels[2]
         if near is None or self.taxel_model == "mujoco":
-            depth = self._depth(data, pad, rot, t, moved)
-            return float(np.sum(self.skin.skin.pressure(depth) * area))
+            return self.skin.skin.pressure(self._depth(data, pad, rot, t, moved))
         pos, nrm, _ = pad.layout.taxels
         world = pos @ rot.T + t
         distance = np.linalg.norm(world - near[0], axis=-1)
         keep = distance <= near[1]
         if not keep.any():
-            return self.pad_force(data, finger)
+            return self._pressure(data, pad, rot, t, None)
         rot_o, t_o = _at_rest(rot, t, moved)
         depth = taxel_depths(self.scene.truth, pos[keep] @ rot_o.T + t_o, nrm[keep] @ rot_o.T,
                              pad.reach)  # fmt: skip
         if np.any(depth[distance[keep] > near[1] - 1.5 * pad.layout.pitch] > 0):
-            return self.pad_force(data, finger)  # the contact reaches the disc's edge
-        return float(np.sum(self.skin.skin.pressure(depth) * area[keep]))
+            return self._pressure(data, pad, rot, t, None)  # the contact reaches the disc's edge
+        full = np.zeros(pad.layout.shape)
+        full[keep] = depth
+        return self.skin.skin.pressure(full)
+
+    def near_contact(self, finger: int, point: Array, penetration: float) -> tuple[Array, float]:
+        """The disc of a finger's pad a contact at `point` [m, world] with MuJoCo's
+        `penetration` [m] can light: twice a sphere's contact radius and three taxels
+        (:meth:`pad_force`'s `near`)."""
+        pad = self.pads[finger]
+        radius = 2.0 * np.sqrt(2.0 * pad.reach * max(penetration, 0.0)) + 3.0 * pad.layout.pitch
+        return np.asarray(point, dtype=np.float64), float(radius)
 
     def reset_softness(self) -> None:
         """Give every fingertip its skin's resting contact softness (:func:`skin_solref`)."""
@@ -580,9 +619,7 @@ class TactileHand:
             tau = float(self.model.geom_solref[geom, 0])
             law = self._skin_law[k]
             if law is None or law[1] >= SKIN_LAW_TICKS:  # read the pad: F = c depth^2 from here
-                pad = self.pads[k]  # the taxels within twice a sphere's contact radius
-                radius = 2.0 * np.sqrt(2.0 * pad.reach * deepest[k]) + 3.0 * pad.layout.pitch
-                force = self.pad_force(data, k, (where[k], radius))
+                force = self.pad_force(data, k, self.near_contact(k, where[k], deepest[k]))
                 law = (force / deepest[k] ** 2, 0)
             self._skin_law[k] = (law[0], law[1] + 1)
             target = law[0] * deepest[k] ** 2

@@ -58,7 +58,8 @@ def test_exact_explore_says_so(tmp_path: Path) -> None:
     ("args", "match"),
     [
         (["--sensing", "tactile", "--skin", "visoin"], "did you mean 'vision'"),
-        (["--skin", "vision"], "`skin` and `taxel_model` are for tactile sensing"),
+        (["--skin", "vision"], "`skin`, `taxel_model` and `steer_on` are for tactile sensing"),
+        (["--steer-on", "contacts"], "`steer_on` are for tactile sensing"),
         (["--sensing", "touchy"], "invalid choice: 'touchy'"),
         (["--sensing", "tactile", "--skin", "MISSING.toml"], "MISSING.toml' not found"),
         (["--sensing", "tactile", "--skin", "BAD.toml"], "not valid TOML"),

@@ -44,6 +44,19 @@ class FingerTask(ABC):
         self.message = ""
         self._calm: tuple[int, int] = (-1, 0)  # (simulator step, calm ticks in a row)
         self._hold: tuple[int, np.ndarray] | None = None  # (simulator step, held target)
+        self._held = None  # the contact felt when the hold began
+
+    def touch(self, sim: Simulator):  # noqa: ANN201 - FingertipContact | None
+        """What this finger feels now (:meth:`~hapticsim.sim.simulator.Simulator.touch`: the
+        skin's estimated contact when a tactile hand steers on it, else MuJoCo's), except while
+        a press is held still (:meth:`hold`): then the frame that began the hold, since the
+        hold waits on the finger's own motion (:meth:`settled`) and reads the skin once at rest
+        (:meth:`record`)."""
+        if self._held is not None and self._hold is not None and (
+                sim.steps - self._hold[0] <= sim.servo.control_steps):  # fmt: skip
+            return self._held
+        self._held = None
+        return sim.touch(self.finger)
 
     def tip_radius(self, sim: Simulator) -> float:
         """Radius [m] of this task's fingertip on the simulated hand."""
@@ -69,12 +82,14 @@ class FingerTask(ABC):
         self._calm = (sim.steps, count)
         return count >= SETTLE_TICKS
 
-    def hold(self, sim: Simulator, target) -> None:  # noqa: ANN001 - (3,) array
+    def hold(self, sim: Simulator, target, contact) -> None:  # noqa: ANN001 - (3,) array
         """Hold a press still until it settles (:meth:`settled`): the tip's target stays where
         it was when the hold began (`target`, the press's target then), so the tip comes to
-        rest instead of chasing a target that moves with it."""
+        rest instead of chasing a target that moves with it; `contact`, what the finger felt
+        then, stands for its touch meanwhile (:meth:`touch`)."""
         if self._hold is None or sim.steps - self._hold[0] > sim.servo.control_steps:
             self._hold = (sim.steps, np.array(target, dtype=np.float64))
+            self._held = contact
         else:
             self._hold = (sim.steps, self._hold[1])
         sim.set_tip_target(self.finger, self._hold[1])
@@ -82,11 +97,15 @@ class FingerTask(ABC):
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
         """Keep a contact; stops the task when the recorder is full. With tactile sensing the
         fingertip's pad is read and the contact it felt is estimated; a touch it did not feel
-        (outside the pad, below the sensor's threshold) is counted and not kept."""
+        (outside the pad, below the sensor's threshold) is counted and not kept. A hand
+        steering on its skin records MuJoCo's contact beside the estimate, as the truth it is
+        scored against (``points_exact``)."""
         sensed = None
+        if sim.steers_on_skin:
+            contact = sim.contacts.tips[self.finger]
         if sim.tactile is not None:
             sensed = sim.tactile.sense(sim.data, self.finger)
-            if sensed.estimate is None:
+            if sensed.estimate is None or contact is None:
                 self.unfelt += 1
                 self.recorder.unfelt += 1
                 return

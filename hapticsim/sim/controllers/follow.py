@@ -144,7 +144,7 @@ class FollowTask(FingerTask):
             return
         f, pc, cfg = self.finger, self.probe_config, self.config
         tip = sim.tip_world(f)
-        contact = contacts.tips[f]
+        contact = self.touch(sim)
         now = sim.time
         if self._state == "idle":
             self._state, self._t0 = "move", now
@@ -175,7 +175,7 @@ class FollowTask(FingerTask):
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force:
                     if not self.settled(sim, contact):
-                        self.hold(sim, tip - self._normal * self._depth)
+                        self.hold(sim, tip - self._normal * self._depth, contact)
                         return
                     self.record(sim, contact)
                     self._last_point = self._last_record = contact.point_world

@@ -160,7 +160,7 @@ class ProbeTask(FingerTask):
             return
         probe = self.probes[self.index]
         tip = sim.tip_world(f)
-        contact = contacts.tips[f]
+        contact = self.touch(sim)
         elapsed = sim.time - self._t0
         if self._state == "move":
             if norm(tip - self._target) < cfg.reach_tol:
@@ -193,7 +193,7 @@ class ProbeTask(FingerTask):
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force_threshold:
                     if not self.settled(sim, contact):
-                        self.hold(sim, tip - self._normal * self._depth)
+                        self.hold(sim, tip - self._normal * self._depth, contact)
                         return
                     self.failed = 0
                     self.record(sim, contact)
