@@ -68,11 +68,18 @@ def _true_normals(truth: Any, points: np.ndarray) -> np.ndarray:
 
 def _epsilon(points: np.ndarray, normals: np.ndarray, truth: Any, method: str,
              **extra: Any) -> float:  # fmt: skip
+    return _scores(points, normals, truth, method, **extra)[0]
+
+
+def _scores(points: np.ndarray, normals: np.ndarray, truth: Any, method: str,
+            **extra: Any) -> tuple[float, float]:  # fmt: skip
+    """epsilon and IoU of a fit (seed 0) of contacts against the truth."""
     from hapticsim.fitting import fit
     from hapticsim.metrics import score
 
     result = fit(points, normals, method=method, rng=0, **extra)
-    return float(score(result.superquadric, truth, rng=0).epsilon)
+    quality = score(result.superquadric, truth, rng=0)
+    return float(quality.epsilon), float(quality.iou)
 
 
 def _contact_errors(
@@ -90,15 +97,17 @@ def _contact_errors(
     return np.asarray(dist), np.radians(angle)
 
 
-def _task(task: tuple[str, str, str, str, int, str, str]) -> dict[str, Any]:
-    """One exploration and its fits."""
+def _task(task: tuple[Any, ...]) -> dict[str, Any]:
+    """One exploration and its fits: (family, kind, name, hand, seed, sensing, skin[,
+    steer_on]) (a tactile hand steers on its skin unless told otherwise)."""
     from hapticsim.exploration import StrategyExplorer
     from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.scene import SceneConfig
 
-    family, kind, name, hand, seed, sensing, skin = task
+    family, kind, name, hand, seed, sensing, skin = task[:7]
+    steer_on = task[7] if len(task) > 7 else "skin"
     truth = _truth(kind, name)
-    config = SceneConfig(hand=hand, sensing=sensing, skin=skin)
+    config = SceneConfig(hand=hand, sensing=sensing, skin=skin, steer_on=steer_on)
     start = time.perf_counter()
     run = StrategyExplorer("paper").explore(truth, 150, np.random.default_rng(seed), config)
     wall = time.perf_counter() - start
@@ -106,12 +115,13 @@ def _task(task: tuple[str, str, str, str, int, str, str]) -> dict[str, Any]:
     acc = contact_accuracy(truth, a["points_clean"], a["normals_clean"])
     row: dict[str, Any] = {
         "family": family, "object": name, "hand": hand, "seed": seed, "sensing": sensing,
-        "skin": skin if sensing == "tactile" else None, "contacts": run.count,
+        "skin": skin if sensing == "tactile" else None,
+        "steer_on": steer_on if sensing == "tactile" else None, "contacts": run.count,
         "unfelt": run.unfelt, "distance_median": acc["distance_median"],
         "distance_p95": acc["distance_p95"], "angle_median_deg": acc["angle_median_deg"],
         "angle_p95_deg": acc["angle_p95_deg"], "sim_seconds": wall, "steps": run.steps,
-        "nH": _epsilon(a["points_clean"], a["normals_clean"], truth, "nH"),
     }  # fmt: skip
+    row["nH"], row["nH_iou"] = _scores(a["points_clean"], a["normals_clean"], truth, "nH")
     if sensing == "tactile":
         at_touch = _angles(a["normals_clean"], _true_normals(truth, a["points_exact"]))
         row["angle_at_touch_median_deg"] = float(np.median(at_touch))
