@@ -111,3 +111,16 @@ def test_a_bad_steering_or_skin_period_is_refused() -> None:
         SceneConfig(sensing="tactile", steer_on="mujoco")
     with pytest.raises(InvalidInputError, match="skin_period"):
         ServoConfig(skin_period=0)
+
+
+@pytest.mark.parametrize("steer_on", ["skin", "contacts"])
+def test_a_touch_is_recorded_with_mujocos_contact_at_rest(steer_on: str) -> None:
+    """Either way, a recorded touch carries MuJoCo's contact of the instant it was read (not
+    the one that began the hold): its force is the skin's static force (one contact law,
+    docs/tactile/force: median |skin / MuJoCo - 1| 0.004 on the paper's bodies)."""
+    config = SceneConfig(sensing="tactile", skin="capacitive", steer_on=steer_on)
+    run = run_exploration(get_body("cube"), "paper", 40, 0, scene_config=config)
+    a = run.arrays
+    assert np.all(a["force_exact"] > 0)
+    truth = np.linalg.norm(a["points_exact"] - a["points_clean"], axis=1)
+    assert np.median(truth) < 2e-3  # the same touch (capacitive taxels are 4 mm apart)

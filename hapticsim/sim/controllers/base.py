@@ -49,10 +49,10 @@ class FingerTask(ABC):
     def touch(self, sim: Simulator):  # noqa: ANN201 - FingertipContact | None
         """What this finger feels now (:meth:`~hapticsim.sim.simulator.Simulator.touch`: the
         skin's estimated contact when a tactile hand steers on it, else MuJoCo's), except while
-        a press is held still (:meth:`hold`): then the frame that began the hold, since the
-        hold waits on the finger's own motion (:meth:`settled`) and reads the skin once at rest
-        (:meth:`record`)."""
-        if self._held is not None and self._hold is not None and (
+        a press of a hand steering on its skin is held still (:meth:`hold`): then the frame
+        that began the hold, since the hold waits on the finger's own motion (:meth:`settled`)
+        and reads the skin once at rest (:meth:`record`)."""
+        if self._held is not None and self._hold is not None and sim.steers_on_skin and (
                 sim.steps - self._hold[0] <= sim.servo.control_steps):  # fmt: skip
             return self._held
         self._held = None
@@ -101,7 +101,7 @@ class FingerTask(ABC):
         steering on its skin records MuJoCo's contact beside the estimate, as the truth it is
         scored against (``points_exact``)."""
         sensed = None
-        if sim.steers_on_skin:
+        if sim.steers_on_skin:  # what steered was the skin's (or a held frame): MuJoCo's now
             contact = sim.contacts.tips[self.finger]
         if sim.tactile is not None:
             sensed = sim.tactile.sense(sim.data, self.finger)
