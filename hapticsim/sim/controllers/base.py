@@ -94,6 +94,15 @@ class FingerTask(ABC):
             self._hold = (sim.steps, self._hold[1])
         sim.set_tip_target(self.finger, self._hold[1])
 
+    def at_rest(self, sim: Simulator, contact):  # noqa: ANN001, ANN201 - FingertipContact
+        """The touch once a held press has settled: with a hand steering on its skin a fresh
+        frame (the held one may be from before the tip came to rest, or left the surface),
+        else `contact` itself."""
+        if not sim.steers_on_skin:
+            return contact
+        self._held = None
+        return sim.touch(self.finger)
+
     def record(self, sim: Simulator, contact) -> None:  # noqa: ANN001 - FingertipContact
         """Keep a contact; stops the task when the recorder is full. With tactile sensing the
         fingertip's pad is read and the contact it felt is estimated; a touch it did not feel

@@ -171,12 +171,15 @@ class FollowTask(FingerTask):
                 sim.set_tip_target(f, self._target)
                 return
         if self._state == "press":
+            if contact is not None and contact.force >= cfg.force:
+                if not self.settled(sim, contact):
+                    self._normal = contact.normal_world
+                    self.hold(sim, tip - self._normal * self._depth, contact)
+                    return
+                contact = self.at_rest(sim, contact)
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force:
-                    if not self.settled(sim, contact):
-                        self.hold(sim, tip - self._normal * self._depth, contact)
-                        return
                     self.record(sim, contact)
                     self._last_point = self._last_record = contact.point_world
                     self._state, self._t0 = "follow", now

@@ -189,12 +189,15 @@ class ProbeTask(FingerTask):
                 sim.set_tip_target(f, self._target)
                 return
         if self._state == "press":
+            if contact is not None and contact.force >= cfg.force_threshold:
+                if not self.settled(sim, contact):
+                    self._normal = contact.normal_world
+                    self.hold(sim, tip - self._normal * self._depth, contact)
+                    return
+                contact = self.at_rest(sim, contact)
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force_threshold:
-                    if not self.settled(sim, contact):
-                        self.hold(sim, tip - self._normal * self._depth, contact)
-                        return
                     self.failed = 0
                     self.record(sim, contact)
                     if not self.done:
