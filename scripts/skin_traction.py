@@ -154,22 +154,10 @@ def explorations() -> list[dict[str, Any]]:
 
 
 def _steps(env_id: str, backend: str, seed: int, touches: int = 15) -> float:
-    import gymnasium as gym
+    from tactile_servo import env_rate
 
-    import hapticsim  # noqa: F401
-
-    env = gym.make(env_id, backend=backend, touch_budget=touches)
-    env.reset(seed=seed)
-    env.action_space.seed(seed)
-    start = time.process_time()
-    steps = 0
-    for _ in range(touches):
-        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        steps += 1
-        if terminated or truncated:
-            break
-    env.close()
-    return steps / (time.process_time() - start)
+    steps, cpu = env_rate(env_id, seed, touches, backend=backend)
+    return steps / cpu
 
 
 def speed(repeats: int = 3) -> dict[str, Any]:

@@ -33,7 +33,6 @@ import argparse
 import importlib.util
 import json
 import os
-import re
 import sys
 import time
 from pathlib import Path
@@ -42,7 +41,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from tactile_table import BODIES, PRESETS, _task  # noqa: E402
+from tactile_table import BODIES, PRESETS, _task, write_results  # noqa: E402
 
 START, END = "<!-- servo-table:start -->", "<!-- servo-table:end -->"
 STEERINGS = ("skin", "contacts")
@@ -94,7 +93,8 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-def _rate(env_id: str, seed: int, touches: int = 15, **kwargs: Any) -> tuple[int, float]:
+def env_rate(env_id: str, seed: int, touches: int = 15, **kwargs: Any) -> tuple[int, float]:
+    """Steps and CPU seconds of one episode of `touches` random touches (after `reset(seed)`)."""
     import gymnasium as gym
 
     import hapticsim  # noqa: F401
@@ -121,12 +121,12 @@ def speed(seeds: int = 6) -> dict[str, Any]:
         "tactile_contacts": ("hapticsim/HapticExploreTactile-v1", {"steer_on": "contacts"}),
     }
     for env_id, kwargs in variants.values():
-        _rate(env_id, 99, backend="mujoco", **kwargs)  # compile and cache
+        env_rate(env_id, 99, backend="mujoco", **kwargs)  # compile and cache
     totals = {name: [0, 0.0] for name in variants}
     load = os.getloadavg()
     for seed in range(seeds):
         for name, (env_id, kwargs) in variants.items():
-            steps, cpu = _rate(env_id, seed, backend="mujoco", **kwargs)
+            steps, cpu = env_rate(env_id, seed, backend="mujoco", **kwargs)
             totals[name][0] += steps
             totals[name][1] += cpu
     rates = {name: steps / cpu for name, (steps, cpu) in totals.items()}
@@ -196,21 +196,14 @@ def main(argv: list[str] | None = None) -> int:
            "wall_seconds": time.perf_counter() - start,
            "load_average": [load, os.getloadavg()], "processes": args.processes}  # fmt: skip
     text = json.dumps(out, indent=1)
+    write_results(args.out, text, args.markdown, START, END, markdown(cells, rates))
     if args.out:
         from hapticsim._files import write_text_atomic
 
-        write_text_atomic(args.out, text + "\n")
         command = ["python", "scripts/tactile_servo.py", *(argv if argv is not None
                                                             else sys.argv[1:])]  # fmt: skip
         write_text_atomic(str(Path(args.out).parent / "manifest.json"),
                           json.dumps(manifest(command), indent=2) + "\n")  # fmt: skip
-    if args.markdown:
-        from hapticsim._files import write_text_atomic
-
-        page = open(args.markdown).read()
-        new = f"{START}\n{markdown(cells, rates)}\n{END}"
-        page = re.sub(re.escape(START) + ".*?" + re.escape(END), lambda _: new, page, flags=re.S)
-        write_text_atomic(args.markdown, page)
     print(text)
     return 0
 

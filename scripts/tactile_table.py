@@ -293,19 +293,24 @@ def main(argv: list[str] | None = None) -> int:
         "load_average": [load, os.getloadavg()], "processes": args.processes,
     }  # fmt: skip
     text = json.dumps(out, indent=1)
-    if args.out:
-        from hapticsim._files import write_text_atomic
-
-        write_text_atomic(args.out, text + "\n")
-    if args.markdown:
-        from hapticsim._files import write_text_atomic
-
-        page = open(args.markdown).read()
-        new = f"{START}\n{_markdown(summary)}\n{END}"
-        page = re.sub(re.escape(START) + ".*?" + re.escape(END), lambda _: new, page, flags=re.S)
-        write_text_atomic(args.markdown, page)
+    write_results(args.out, text, args.markdown, START, END, _markdown(summary))
     print(text)
     return 0
+
+
+def write_results(out: str | None, text: str, page: str | None, start: str, end: str,
+                  table: str) -> None:  # fmt: skip
+    """Write the JSON `text` to `out` and `table` between the markers `start` and `end` of
+    the markdown file `page` (each when given; atomically)."""
+    from hapticsim._files import write_text_atomic
+
+    if out:
+        write_text_atomic(out, text + "\n")
+    if page:
+        old = open(page).read()
+        new = f"{start}\n{table}\n{end}"
+        old = re.sub(re.escape(start) + ".*?" + re.escape(end), lambda _: new, old, flags=re.S)
+        write_text_atomic(page, old)
 
 
 if __name__ == "__main__":

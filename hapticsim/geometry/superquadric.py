@@ -75,6 +75,11 @@ def _frozen(arr: Array) -> Array:
     return arr
 
 
+def _columns(vectors: Array) -> Array:
+    """(3, k) contiguous float64 columns of (..., 3) vectors (the compiled kernels' layout)."""
+    return np.ascontiguousarray(np.asarray(vectors, dtype=np.float64).reshape(-1, 3).T)
+
+
 @dataclass(frozen=True, eq=False)
 class Superquadric(Solid):
     """A superquadric in the world: ``x = R D_t(chi(eta, omega)) + x0`` (paper eqs. 1-2).
@@ -450,8 +455,7 @@ class Superquadric(Solid):
         from hapticsim.geometry._rays_compiled import first_hits
         from hapticsim.geometry.eof_compiled import unpack
 
-        o = np.ascontiguousarray(np.asarray(origins, dtype=np.float64).reshape(-1, 3).T)
-        d = np.ascontiguousarray(np.asarray(directions, dtype=np.float64).reshape(-1, 3).T)
+        o, d = _columns(origins), _columns(directions)
         out = np.empty(o.shape[1])
         first_hits(o, d, float(length), np.asarray(grids, dtype=np.int64), *unpack(self),
                    1.0001 * self.bounding_radius, out)  # fmt: skip
@@ -466,8 +470,7 @@ class Superquadric(Solid):
         from hapticsim.geometry._rays_compiled import segment_depths
         from hapticsim.geometry.eof_compiled import unpack
 
-        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3).T)
-        m = np.ascontiguousarray(np.asarray(normals, dtype=np.float64).reshape(-1, 3).T)
+        p, m = _columns(points), _columns(normals)
         out = np.empty(p.shape[1])
         segment_depths(p, m, float(reach), np.asarray(grids, dtype=np.int64), *unpack(self),
                        1.0001 * self.bounding_radius, out)  # fmt: skip
