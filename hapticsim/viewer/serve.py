@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import signal
 import socket
 import sys
 import threading
@@ -130,15 +131,32 @@ def serve(
         (ready or (lambda u: print(f"hapticsim: viewing {run.path} at {u} (Ctrl-C ends)",
                                    file=sys.stderr, flush=True)))(url)  # fmt: skip
         event = stop or threading.Event()
-        try:
-            while not event.wait(SECONDS_PER_TOUCH):
-                if play.value:
-                    slider.value = 0 if int(slider.value) >= last else int(slider.value) + 1
-                    on_touch(None)
-        except KeyboardInterrupt:
-            pass
+        with _interruptible():
+            try:
+                while not event.wait(SECONDS_PER_TOUCH):
+                    if play.value:
+                        slider.value = 0 if int(slider.value) >= last else int(slider.value) + 1
+                        on_touch(None)
+            except KeyboardInterrupt:
+                pass
     finally:
         _stop(server)
+
+
+@contextlib.contextmanager
+def _interruptible() -> Any:
+    """Let SIGINT (Ctrl-C, ``kill -INT``) end the serving even when the process was started
+    with it ignored, as a non-interactive shell starts a background job (Python then keeps it
+    ignored); the previous handler is restored after. Only the main thread can set it."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _stop(server: Any) -> None:

@@ -239,17 +239,23 @@ def test_a_mesh_truth_union_estimate_and_taxels_show(browser, tmp_path: Path) ->
     page.close()
 
 
-def test_the_view_command_serves_until_interrupted(run_dir: Path) -> None:
+@pytest.mark.parametrize("inherited", ["default", "ignored"])
+def test_the_view_command_serves_until_interrupted(run_dir: Path, inherited: str) -> None:
+    """SIGINT ends it, also when it was started with SIGINT ignored (a non-interactive
+    shell's background job: Python keeps an inherited SIG_IGN, and the viewer then never
+    stopped)."""
     import signal
     import subprocess
     import sys
     import urllib.request
 
     port = _free_port()
+    ignore = None if inherited == "default" else (
+        lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))  # fmt: skip
     proc = subprocess.Popen(
         [sys.executable, "-m", "hapticsim.cli", "view", str(run_dir), "--port", str(port),
          "--estimate-every", "50", "--quiet"],
-        stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+        stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True, preexec_fn=ignore,
     )  # fmt: skip
     try:
         lines = [proc.stderr.readline()]
