@@ -429,7 +429,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--steer-on", default="skin", choices=("skin", "contacts"),
         help="with --sensing tactile: what probing and contour following steer on: the "
-        "skin's estimated contacts, read every control tick (default), or MuJoCo's contacts",
+        "skin's estimated contacts, a frame every 3 control ticks (default), or MuJoCo's contacts",
     )  # fmt: skip
     p.add_argument(
         "--object-dynamics", choices=("fixed", "resting", "held"), default="fixed",

@@ -69,9 +69,8 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     exact = {(r["family"], r["object"], r["seed"]): r for r in rows if r["sensing"] == "exact"}
     groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}
     for r in rows:
-        key = (r["family"], r["skin"] or "exact", r["steer_on"] or "")
-        if r["sensing"] == "exact":
-            key = (r["family"], "exact", "")
+        exact_run = r["sensing"] == "exact"
+        key = (r["family"], "exact", "") if exact_run else (r["family"], r["skin"], r["steer_on"])
         groups.setdefault(key, []).append(r)
     out = []
     for (family, skin, steer), group in groups.items():

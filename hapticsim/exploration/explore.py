@@ -123,7 +123,7 @@ def explore(
         taxel_model: with tactile sensing, ``"hapticsim"`` (its own taxel model, default) or
             ``"mujoco"`` (MuJoCo's ``<tactile>`` sensor).
         steer_on: with tactile sensing, what the controllers steer on: ``"skin"`` (default:
-            each touching pad's estimated contact, every control tick) or ``"contacts"``
+            each touching pad's estimated contact, a frame every 3 control ticks) or ``"contacts"``
             (MuJoCo's contact point and normal; :class:`~hapticsim.sim.scene.SceneConfig`).
         holes: with ``method="multi"``, also fit a supertoroid and keep it where it explains
             the contacts better (:func:`hapticsim.fitting.fit`'s ``holes``).

@@ -89,10 +89,9 @@ class SceneConfig:
             ``<tactile>`` sensor).
         steer_on: with tactile sensing, what the probing and contour-following controllers
             steer on: ``"skin"`` (default: each touching pad's contact, force and normal
-            estimated from its reading every control tick, :meth:`~hapticsim.sim.simulator.
-            Simulator.touch`) or ``"contacts"`` (MuJoCo's contact point and normal with the
-            skin's force law, as before the skin closed the loop); exact sensing steers on
-            MuJoCo's contacts.
+            estimated from its frames, :meth:`~hapticsim.sim.simulator.Simulator.touch`) or
+            ``"contacts"`` (MuJoCo's contact point and normal with the skin's force law, as
+            before the skin closed the loop); exact sensing steers on MuJoCo's contacts.
         object_dynamics: how the object is held (SPEC §12): ``"fixed"`` (default, a static
             body), ``"resting"`` or ``"held"``, or an
             :class:`~hapticsim.sim.dynamics.ObjectDynamics` with its mass or density and clamp

@@ -69,9 +69,9 @@ class ServoConfig:
         skin_period: control ticks per frame of a tactile servo's pads (a tactile hand steering
             on its skin, :meth:`Simulator.touch`): 3 reads them at 83 Hz with the default
             ticks, between a vision-based pad's camera (25-60 Hz) and a taxel array (100 Hz
-            and up). Each frame costs a pad's reading and estimate (about 0.3 ms): at 2 the
-            tactile environment ran at 0.49 of exact sensing's steps per CPU second, at 3 at
-            0.54 (``docs/tactile/servo``).
+            and up). Each frame costs a pad's reading and estimate (about 0.4 ms): in one run
+            the tactile environment ran at 0.43, 0.47 and 0.50 of exact sensing's steps per CPU
+            second at 2, 3 and 4 (``docs/tactile/servo``).
     """
 
     control_steps: int = 4

@@ -52,8 +52,7 @@ class FingerTask(ABC):
         a press of a hand steering on its skin is held still (:meth:`hold`): then the frame
         that began the hold, since the hold waits on the finger's own motion (:meth:`settled`)
         and reads the skin once at rest (:meth:`record`)."""
-        if self._held is not None and self._hold is not None and sim.steers_on_skin and (
-                sim.steps - self._hold[0] <= sim.servo.control_steps):  # fmt: skip
+        if self._held is not None and sim.steps - self._hold[0] <= sim.servo.control_steps:
             return self._held
         self._held = None
         return sim.touch(self.finger)
@@ -89,10 +88,23 @@ class FingerTask(ABC):
         then, stands for its touch meanwhile (:meth:`touch`)."""
         if self._hold is None or sim.steps - self._hold[0] > sim.servo.control_steps:
             self._hold = (sim.steps, np.array(target, dtype=np.float64))
-            self._held = contact
+            self._held = contact if sim.steers_on_skin else None
         else:
             self._hold = (sim.steps, self._hold[1])
         sim.set_tip_target(self.finger, self._hold[1])
+
+    def settle_press(self, sim: Simulator, contact, force: float,  # noqa: ANN001, ANN201
+                     depth: float):  # fmt: skip
+        """One tick of a press that has reached `force` [N]: hold it still at `depth` [m]
+        along its normal until it settles (:meth:`settled`, :meth:`hold`), then the touch at
+        rest (:meth:`at_rest`). Returns (holding, contact): the caller waits while holding;
+        below `force` the contact is given back as it is."""
+        if contact is None or contact.force < force:
+            return False, contact
+        if not self.settled(sim, contact):
+            self.hold(sim, sim.tip_world(self.finger) - contact.normal_world * depth, contact)
+            return True, contact
+        return False, self.at_rest(sim, contact)
 
     def at_rest(self, sim: Simulator, contact):  # noqa: ANN001, ANN201 - FingertipContact
         """The touch once a held press has settled: with a hand steering on its skin a fresh

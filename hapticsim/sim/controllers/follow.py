@@ -171,12 +171,10 @@ class FollowTask(FingerTask):
                 sim.set_tip_target(f, self._target)
                 return
         if self._state == "press":
-            if contact is not None and contact.force >= cfg.force:
-                if not self.settled(sim, contact):
-                    self._normal = contact.normal_world
-                    self.hold(sim, tip - self._normal * self._depth, contact)
-                    return
-                contact = self.at_rest(sim, contact)
+            holding, contact = self.settle_press(sim, contact, cfg.force, self._depth)
+            if holding:
+                self._normal = contact.normal_world
+                return
             if contact is not None:
                 self._normal = contact.normal_world
                 if contact.force >= cfg.force:
