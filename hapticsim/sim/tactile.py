@@ -541,15 +541,16 @@ class TactileHand:
         if near is None or self.taxel_model == "mujoco":
             return self.skin.skin.pressure(self._depth(data, pad, rot, t, moved))
         pos, nrm, _ = pad.layout.taxels
-        world = pos @ rot.T + t
-        distance = np.linalg.norm(world - near[0], axis=-1)
-        keep = distance <= near[1]
+        offset = pos - (near[0] - t) @ rot  # the taxels from the contact, in the carrier's frame
+        distance2 = np.einsum("ijk,ijk->ij", offset, offset)
+        keep = distance2 <= near[1] ** 2
         if not keep.any():
             return self._pressure(data, pad, rot, t, None)
         rot_o, t_o = _at_rest(rot, t, moved)
         depth = taxel_depths(self.scene.truth, pos[keep] @ rot_o.T + t_o, nrm[keep] @ rot_o.T,
                              pad.reach)  # fmt: skip
-        if np.any(depth[distance[keep] > near[1] - 1.5 * pad.layout.pitch] > 0):
+        edge = max(near[1] - 1.5 * pad.layout.pitch, 0.0) ** 2
+        if np.any(depth[distance2[keep] > edge] > 0):
             return self._pressure(data, pad, rot, t, None)  # the contact reaches the disc's edge
         full = np.zeros(pad.layout.shape)
         full[keep] = depth
@@ -557,10 +558,12 @@ class TactileHand:
 
     def near_contact(self, finger: int, point: Array, penetration: float) -> tuple[Array, float]:
         """The disc of a finger's pad a contact at `point` [m, world] with MuJoCo's
-        `penetration` [m] can light: twice a sphere's contact radius and three taxels
-        (:meth:`pad_force`'s `near`)."""
+        `penetration` [m] can light: 1.25 times a sphere's contact radius and two taxels
+        (:meth:`pad_force`'s `near`; a contact that reaches the disc's edge reads the whole
+        pad, so a smaller disc costs whole reads, not accuracy: at twice the radius and three
+        taxels a frame cast 1.8 times the taxels and took 1.4 times as long)."""
         pad = self.pads[finger]
-        radius = 2.0 * np.sqrt(2.0 * pad.reach * max(penetration, 0.0)) + 3.0 * pad.layout.pitch
+        radius = 1.25 * np.sqrt(2.0 * pad.reach * max(penetration, 0.0)) + 2.0 * pad.layout.pitch
         return np.asarray(point, dtype=np.float64), float(radius)
 
     def reset_softness(self) -> None:
