@@ -8,7 +8,8 @@ skin), and at every recorded touch ``|force / force_exact - 1|``, the skin's int
 pressure (``contacts.npz`` ``force``) against MuJoCo's normal force at the same instant. Split
 by the touch's kind: settled probes (``patch``) and contour-following strokes (``stripe``, the
 tip sliding). Also each run's CPU seconds and the estimated contacts' median distance to the
-true surface. About 3 minutes on 2 cores.
+true surface. About 3 minutes on 2 cores. ``--skin elastomer`` (the layer law, needs the
+``fem`` extra) gives docs/tactile/force/elastomer/force.json.
 """
 
 from __future__ import annotations
@@ -34,8 +35,8 @@ def _stats(error: np.ndarray) -> dict[str, float | int]:
             "p95": float(np.percentile(error, 95)), "max": float(np.max(error))}  # fmt: skip
 
 
-def measure(hand: str) -> dict[str, Any]:
-    """One hand's runs and their pooled figures."""
+def measure(hand: str, skin: str = "ideal") -> dict[str, Any]:
+    """One hand's runs and their pooled figures, with the skin preset `skin`."""
     from hapticsim.data import get_body
     from hapticsim.metrics.accuracy import contact_accuracy
     from hapticsim.sim.scene import SceneConfig
@@ -45,7 +46,7 @@ def measure(hand: str) -> dict[str, Any]:
     for body in BODIES:
         for seed in SEEDS:
             start = time.process_time()
-            config = SceneConfig(sensing="tactile", hand=hand)
+            config = SceneConfig(sensing="tactile", hand=hand, skin=skin)
             run = run_exploration(get_body(body), "paper", 150, seed, scene_config=config)
             seconds = time.process_time() - start
             a = run.arrays
@@ -72,11 +73,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--out", default=None)
     parser.add_argument("--hands", default=",".join(HANDS))
+    parser.add_argument("--skin", default="ideal", help="the skin preset (default ideal)")
     args = parser.parse_args()
     start = time.perf_counter()
-    result: dict[str, Any] = {"bodies": BODIES, "seeds": SEEDS, "hands": {}}
+    result: dict[str, Any] = {"bodies": BODIES, "seeds": SEEDS, "skin": args.skin, "hands": {}}
     for hand in args.hands.split(","):
-        result["hands"][hand] = measure(hand)
+        result["hands"][hand] = measure(hand, args.skin)
     result["seconds"] = time.perf_counter() - start
     text = json.dumps(result, indent=1)
     if args.out:

@@ -14,7 +14,8 @@ Winkler law against the FE for a sphere of 8 mm pressed into a flat 2 mm pad, an
 (none of it was looked at while the law was written), spheres of 4 and 15 mm in 1 and 3 mm
 layers and flat-ended punches; the FE punch against Boussinesq's half-space solution. And a long
 cylinder of 8 mm (a line contact) in 1-3 mm layers: the plane-strain FE against Hertz's line
-contact and the Winkler law, the layer law and the Winkler law against that FE.
+contact and the Winkler law, the layer law and the Winkler law against that FE. And the skin
+itself with a Poisson's ratio (the layer law on its pads' 0.5 and 1 mm grids) against the FE.
 Prints JSON (and writes it with --out); --figure draws the pressure profiles at 0.5 mm.
 """
 
@@ -110,7 +111,48 @@ def table(resolution: int = 48) -> dict[str, Any]:
             "modulus_pa": {"vision": vision.modulus, "capacitive": capacitive.modulus},
             "resolution": resolution, "rows": rows, "hertz_check": checks, "flat_pad": layer,
             "held_out": held_out(skin.modulus), "boussinesq_check": boussinesq(skin.modulus),
-            "cylinders": cylinders(skin.modulus)}
+            "cylinders": cylinders(skin.modulus), "skin_grids": skin_grids(skin, resolution)}
+
+
+def skin_grids(skin: SkinModel, resolution: int) -> list[dict[str, Any]]:
+    """The skin itself on its pads' grids (SkinModel with a Poisson's ratio: the layer law at
+    the taxel pitch) and the Winkler skin, against the FE layer: the 8 mm sphere pressed
+    0.1-1 mm into a flat 2 mm pad, its centre on a taxel and half a pitch off along both axes;
+    and the CPU time of one image's contact solution."""
+    out = []
+    radius = FINGERTIP_RADIUS
+    for nu in (0.45, 0.49):
+        layer = SkinModel(skin.modulus, skin.thickness, nu)
+        for pitch in (5e-4, 1e-3):
+            for delta in INDENTATIONS:
+                fe = fem_layer_press(skin.modulus, nu, skin.thickness, radius, delta, resolution)
+                for offset in (0.0, 0.5):
+                    r = grid_radii(1.3 * np.sqrt(2.0 * radius * delta) + pitch, pitch)
+                    n = len(r)
+                    k = (np.arange(n) - n // 2 - offset) * pitch
+                    r = np.hypot(k[:, None], k[None, :])
+                    depth = delta - (radius - np.sqrt(np.maximum(radius**2 - r**2, 0.0)))
+                    layer.pressure(depth, pitch)  # the kernel, once
+                    clock = time.process_time()
+                    p = layer.pressure(depth, pitch)
+                    seconds = time.process_time() - clock
+                    w = skin.pressure(depth)
+                    out.append({
+                        "poisson": nu, "pitch_mm": pitch * 1e3, "indentation_mm": delta * 1e3,
+                        "offset_pitch": offset, "pressed_taxels": int((p > 0).sum()),
+                        "cpu_seconds": seconds,
+                        "skin_over_fe": _over(_grid_measures(p, pitch), fe),
+                        "winkler_skin_over_fe": _over(_grid_measures(w, pitch), fe),
+                    })  # fmt: skip
+                sys.stderr.write(f"skin grid nu {nu} pitch {pitch * 1e3:g} mm delta "
+                                 f"{delta * 1e3:g} mm\n")  # fmt: skip
+    return out
+
+
+def _grid_measures(pressure: np.ndarray, spacing: float) -> ContactSolution:
+    """:func:`_measures` with the largest pressure for the centre's (a sphere off a taxel)."""
+    m = _measures(pressure, spacing)
+    return ContactSolution(m.force, m.contact_radius, float(pressure.max()))
 
 
 def _measures(pressure: np.ndarray, spacing: float) -> ContactSolution:

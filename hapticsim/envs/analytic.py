@@ -203,7 +203,7 @@ class AnalyticBackend(TouchBackend):
         for i, (x, n) in enumerate(zip(exact, exact_normals, strict=True)):
             depth, rot, core = press(self._truth, x, n, touch.approach, pad, self._penetration)
             pressure = np.zeros((self.n_fingers, rows, cols))
-            pressure[touch.finger] = skin.skin.pressure(depth)
+            pressure[touch.finger] = skin.skin.pressure(depth, pad.pitch)
             reading = skin.sensor.apply(pressure, self._pattern, self._rng)
             est = estimate_contact(reading[touch.finger], pad, rot, core, skin.skin, skin.sensor)
             if est is not None:

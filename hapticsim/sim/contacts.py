@@ -10,15 +10,16 @@ For a contact between a fingertip sphere and the object:
   surface point plus ``dist * n``, so the object's surface point is ``pos - 0.5 * dist * n``.
 - The normal force is the first component of ``mj_contactForce`` (contact frame) [N]. A hand
   with a tactile skin (:mod:`hapticsim.sim.tactile`) feels instead the skin's elastic force of
-  the fingertip's penetration ``delta = -dist``, ``c_f delta^2`` (``c_f = pi E R_f / h``, the
-  sphere law of :class:`~hapticsim.perception.tactile.SkinModel`): what its controllers press
+  the fingertip's penetration ``delta = -dist``, its sphere's force on a flat face
+  (:meth:`~hapticsim.perception.tactile.SkinModel.sphere_force`: ``pi E R_f delta^2 / h`` under
+  the Winkler law): what its controllers press
   against; MuJoCo's force, which follows the skin's integrated pressure
   (:meth:`~hapticsim.sim.tactile.TactileHand.follow_skin`), is kept as ``force_exact``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 
 import mujoco
@@ -74,7 +75,7 @@ def fingertip_contacts(
     data: mujoco.MjData,
     hand: Hand,
     object_geom_id: int | Collection[int],
-    skin_force: Array | None = None,
+    skin_force: Callable[[int, float], float] | None = None,
 ) -> ContactState:
     """Collect the fingertip/object contacts of the current state (call after a step).
 
@@ -86,8 +87,9 @@ def fingertip_contacts(
         hand: hand ids of `model`.
         object_geom_id: id of the object geom, or the ids of all its geoms (the convex parts
             of a non-convex mesh).
-        skin_force: (fingers,) float, the skins' coefficients c_f [N/m^2]: each fingertip
-            then feels ``c_f * max(-dist, 0)^2`` (module docstring); None: MuJoCo's force.
+        skin_force: the skin's force [N] of a finger at a penetration [m]: each fingertip
+            then feels ``skin_force(finger, max(-dist, 0))`` (module docstring); None:
+            MuJoCo's force.
 
     Returns:
         The contact state.
@@ -130,7 +132,7 @@ def fingertip_contacts(
             force = max(float(force6[0]), 0.0)
         exact = force
         if skin_force is not None:
-            force = float(skin_force[finger]) * max(-dist, 0.0) ** 2
+            force = skin_force(finger, max(-dist, 0.0))
         current = best[finger]
         if current is None or force > current.force:
             best[finger] = FingertipContact(

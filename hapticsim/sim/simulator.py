@@ -149,13 +149,13 @@ class Simulator:
         self._vel6 = np.zeros(6)
         #: the fingertips' taxel pads, with tactile sensing (None with exact sensing).
         self.tactile = None
-        #: the skins' force coefficients per finger (tactile sensing), else None.
+        #: the skin's force of a finger at a penetration (tactile sensing), else None.
         self._skin_force = None
         if scene.config.sensing == "tactile":
 
             rng = np.random.default_rng(0) if tactile_rng is None else tactile_rng
             self.tactile = TactileHand(scene, rng)
-            self._skin_force = self.tactile.force_coefficients
+            self._skin_force = self.tactile.sphere_force
         #: whether the controllers steer on the skin's estimated contacts (:meth:`touch`)
         self.steers_on_skin = self.tactile is not None and scene.config.steer_on == "skin"
         #: a free object's pose (7,) at the last reset (SPEC §12), else None.

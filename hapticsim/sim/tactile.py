@@ -94,7 +94,7 @@ def skin_solref(skin: SkinPreset, radius: float) -> tuple[float, float]:
     (:data:`FINGERTIP_MASS`), hence ``tau = sqrt(20 m / k)``, at least 2 ms (twice the time
     step).
     """
-    k = np.sqrt(np.pi * skin.skin.stiffness * radius * PROBE_FORCE)
+    k = skin.skin.secant_stiffness(radius, PROBE_FORCE)
     return (max(float(np.sqrt(20.0 * FINGERTIP_MASS / k)), 2e-3), 1.0)
 
 
@@ -407,11 +407,10 @@ class TactileHand:
         #: each pad's share of the fixed pattern (:meth:`feel`)
         self._patterns = [FixedPattern(self.pattern.gain[k : k + 1], self.pattern.dead[k : k + 1])
                           for k in range(len(pads))]  # fmt: skip
-        #: (fingers,) the skin's force coefficients ``pi E R / h`` [N/m^2] of each fingertip
-        #: (its pad's sphere, or its tip radius under a flat pad).
-        radii = [p.layout.radius or f.tip_radius for p, f in zip(pads, scene.hand.fingers,
-                                                                  strict=True)]  # fmt: skip
-        self.force_coefficients = np.pi * self.skin.skin.stiffness * np.asarray(radii)
+        #: (fingers,) each fingertip's sphere (its pad's, or its tip radius under a flat pad)
+        #: [m], whose force on a flat face stands for the skin's (:meth:`sphere_force`).
+        self._radii = [p.layout.radius or f.tip_radius for p, f in zip(pads, scene.hand.fingers,
+                                                                       strict=True)]  # fmt: skip
         #: a free object's pose at rest (the scene's truth; SPEC §12), else None.
         self._rest_pose = None
         if scene.free:
@@ -437,6 +436,12 @@ class TactileHand:
     def layouts(self) -> tuple[PadLayout, ...]:
         """Every pad's layout, in finger order."""
         return tuple(p.layout for p in self.pads)
+
+    def sphere_force(self, finger: int, penetration: float) -> float:
+        """The skin's force [N] of a finger's fingertip sphere pressed `penetration` [m] into a
+        flat face (:meth:`~hapticsim.perception.tactile.skin.SkinModel.sphere_force`): what a
+        tactile hand steering on MuJoCo's contacts feels at MuJoCo's penetration."""
+        return self.skin.skin.sphere_force(self._radii[finger], penetration)
 
     def pad_pose(self, data: mujoco.MjData, pad: Pad) -> tuple[Array, Array]:
         """A pad carrier's rotation (3, 3) and origin (3,) [m] in the world."""
@@ -465,7 +470,8 @@ class TactileHand:
             depth[k] = self._depth(data, pad, rot, t, moved)
             if np.any(depth[k] > 0):
                 slip[k] = self._slip(data, pad, rot, world, nrm @ rot.T, depth[k] > 0)
-        pressure = self.skin.skin.pressure(depth)
+        pressure = np.stack([self.skin.skin.pressure(depth[k], pad.layout.pitch)
+                             for k, pad in enumerate(self.pads)])  # fmt: skip
         readings = self.skin.sensor.apply(pressure, self.pattern, self.rng)
         traction, state = traction_field(pressure, self.loads(data, rotations), self.friction,
                                          self.pads[0].layout.taxels[2])  # fmt: skip
@@ -539,7 +545,8 @@ class TactileHand:
         `rot`, `t`; `near` as in :meth:`pad_force`."""
         moved = self._object_motion(data)
         if near is None or self.taxel_model == "mujoco":
-            return self.skin.skin.pressure(self._depth(data, pad, rot, t, moved))
+            return self.skin.skin.pressure(self._depth(data, pad, rot, t, moved),
+                                           pad.layout.pitch)  # fmt: skip
         pos, nrm, _ = pad.layout.taxels
         offset = pos - (near[0] - t) @ rot  # the taxels from the contact, in the carrier's frame
         distance2 = np.einsum("ijk,ijk->ij", offset, offset)
@@ -554,7 +561,7 @@ class TactileHand:
             return self._pressure(data, pad, rot, t, None)  # the contact reaches the disc's edge
         full = np.zeros(pad.layout.shape)
         full[keep] = depth
-        return self.skin.skin.pressure(full)
+        return self.skin.skin.pressure(full, pad.layout.pitch)
 
     def near_contact(self, finger: int, point: Array, penetration: float) -> tuple[Array, float]:
         """The disc of a finger's pad a contact at `point` [m, world] with MuJoCo's

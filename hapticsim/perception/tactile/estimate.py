@@ -1,7 +1,8 @@
 """Contact estimation from one pad's reading: location, normal, area, force and uncertainty.
 
 The reading ``y`` [Pa] (after the sensor model) is turned back into depths ``d = y h / E`` (the
-skin's inverse, :class:`~hapticsim.perception.tactile.skin.SkinModel`). A taxel at ``p`` with
+skin's inverse, :class:`~hapticsim.perception.tactile.skin.SkinModel`; under its layer law the
+layer's sinking under the reading, the depth where a taxel is pressed). A taxel at ``p`` with
 outward normal
 ``m`` and depth ``d`` stands for the object surface point ``q = p - d m`` (the depth model,
 :mod:`hapticsim.perception.tactile.depth`).
@@ -183,7 +184,7 @@ def estimate_contact(
     count = int(np.count_nonzero(lit))
     if count == 0:
         return None
-    d = skin.depth(y)
+    d = skin.depth(y, layout.pitch)
     pos, nrm, area = layout.taxels
     rot = np.asarray(rotation, dtype=np.float64)
     t = np.asarray(translation, dtype=np.float64)
@@ -192,7 +193,7 @@ def estimate_contact(
     sensor = SensorModel() if sensor is None else sensor
     top = float(y.max())
     noise2 = sensor.noise**2 + sensor.step**2 / 12.0 + (sensor.gain_spread * top) ** 2
-    sigma_depth = float(np.sqrt(noise2)) / skin.stiffness
+    sigma_depth = float(np.sqrt(noise2)) / skin.cell_stiffness(layout.pitch)
     blur = sensor.blur * layout.pitch  # the crosstalk's std [m]
     if layout.curved:
         point_c, normal_c, depth, sigma, sigma_n, method = _curved(y, d, lit, layout, sigma_depth,

@@ -30,10 +30,12 @@ the convolution of the pressure with the layer's influence function (:func:`laye
 FE surface displacement of a bonded layer under a small uniform disc load, computed once per
 layer and grid spacing), and the pressure is the contact solution of a depth image on a regular
 grid (Polonsky and Keer's constrained conjugate gradient, FFT convolutions; displacement
-given). A sphere pressed 0.1-1 mm into a 2 mm layer on a 0.1 mm grid: force, contact radius and
-peak pressure within 2.5 % of :func:`fem_layer_press` for Poisson's ratios 0-0.49; held out
-(spheres of 4 and 15 mm in 1 and 3 mm layers, flat punches), within 6.5 %
-(docs/tactile/mechanics/README.md).
+given; a cell's own response is the sinking at its centre, the collocation point). A sphere
+pressed 0.1-1 mm into a 2 mm layer on a 0.1 mm grid: force, contact radius and peak pressure
+within 1.7 % of :func:`fem_layer_press` for Poisson's ratios 0-0.49; held out (spheres of 4 and
+15 mm in 1 and 3 mm layers, flat punches), within 2.8 %; on a pad's 0.5 mm grid, force within
+2.5 % (docs/tactile/mechanics/README.md). A skin with a Poisson's ratio reads this law
+(:class:`~hapticsim.perception.tactile.skin.SkinModel`).
 
 The FE solutions need the ``fem`` extra (``pip install -e ".[fem]"``: scikit-fem). What they
 say of the skin's law is in docs/tactile/mechanics/README.md (``scripts/skin_mechanics.py``).
@@ -44,7 +46,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -346,17 +348,34 @@ def fem_pad_press(modulus: float, poisson: float, radius: float, thickness: floa
 class LayerKernel:
     """A bonded layer's surface response on a square grid: ``radii`` (m,) [m] and
     ``displacement`` (m,) [m/N], the surface's sinking at a distance from a 1 N load spread
-    uniformly over a disc of the grid cell's area; ``own`` [m/N], the mean sinking of that disc
-    (a cell's response to its own load); ``spacing`` [m], the grid's."""
+    uniformly over a disc of the grid cell's area; ``own`` [m/N], the sinking at that disc's
+    centre (a cell's response to its own load where its depth is matched: the cells' centres
+    are the collocation points; the disc's mean sinking, 0.80-0.84 of it, made the law 5-20 %
+    too stiff on 0.5-1 mm grids); ``spacing`` [m], the grid's."""
 
     radii: Array
     displacement: Array
     own: float
     spacing: float
+    _spectra: dict[tuple[int, int], Array] = field(default_factory=dict, compare=False,
+                                                   repr=False)  # fmt: skip
 
     def spectrum(self, rows: int, cols: int) -> Array:
         """The FFT of the response on a (2 rows, 2 cols) grid of offsets (zero-padded, for
-        non-periodic convolutions of a (rows, cols) image)."""
+        non-periodic convolutions of a (rows, cols) image); cached per shape."""
+        cached = self._spectra.get((rows, cols))
+        if cached is None:
+            cached = self._spectra[(rows, cols)] = self._spectrum(rows, cols)
+        return cached
+
+    def sink(self, forces: Array) -> Array:
+        """The surface's sinking [m] under a (rows, cols) image of forces [N] on the grid."""
+        rows, cols = forces.shape
+        shape = (2 * rows, 2 * cols)
+        return np.fft.irfft2(np.fft.rfft2(forces, shape) * self.spectrum(rows, cols),
+                             shape)[:rows, :cols]  # fmt: skip
+
+    def _spectrum(self, rows: int, cols: int) -> Array:
         dy = np.arange(2 * rows)
         dx = np.arange(2 * cols)
         dy = np.where(dy < rows, dy, dy - 2 * rows) * self.spacing
@@ -400,9 +419,7 @@ def layer_kernel(modulus: float, poisson: float, thickness: float,
     radii = basis.doflocs[0, top]
     order = np.argsort(radii)
     radii, sink = radii[order], -u[top][order]
-    inside = radii <= disc
-    own = float(np.trapezoid(sink[inside] * radii[inside], radii[inside]) * 2.0 / disc**2)
-    return LayerKernel(radii=radii, displacement=sink, own=own, spacing=float(spacing))
+    return LayerKernel(radii=radii, displacement=sink, own=float(sink[0]), spacing=float(spacing))
 
 
 def layer_forces(depth: Array, kernel: LayerKernel, tol: float = 1e-9,
@@ -415,13 +432,7 @@ def layer_forces(depth: Array, kernel: LayerKernel, tol: float = 1e-9,
     depth = np.asarray(depth, dtype=np.float64)
     if depth.ndim != 2 or not np.all(np.isfinite(depth)):
         raise InvalidInputError(f"`depth` must be a finite (rows, cols) image, got {depth.shape}")
-    rows, cols = depth.shape
-    spectrum = kernel.spectrum(rows, cols)
-    shape = (2 * rows, 2 * cols)
-
-    def sink(forces: Array) -> Array:
-        return np.fft.irfft2(np.fft.rfft2(forces, shape) * spectrum, shape)[:rows, :cols]
-
+    sink = kernel.sink
     forces = np.where(depth > 0.0, 1e-12, 0.0)
     if not forces.any():
         return np.zeros_like(depth)

@@ -10,6 +10,8 @@ A skin file is a small TOML table; the shipped presets use the same format::
     [skin]                   # the elastic layer (hapticsim.perception.tactile.skin.SkinModel)
     modulus = 2.0e5          # Young's modulus [Pa]
     thickness = 0.002        # [m]
+    poisson = 0.49           # optional: the layer law with this Poisson's ratio (needs the
+                             # `fem` extra); without it the Winkler law
 
     [sensor]                 # the electronics (SensorModel); every key optional
     noise = 500.0            # [Pa] per taxel and reading
@@ -21,8 +23,9 @@ A skin file is a small TOML table; the shipped presets use the same format::
     threshold = 2000.0       # [Pa]
 
 Shipped (:data:`SKIN_NAMES`): ``ideal`` (no sensor effects), ``vision`` (a high-resolution
-vision-based pad) and ``capacitive`` (a coarse capacitive skin); each file names its sources and
-which of its numbers are assumed.
+vision-based pad), ``capacitive`` (a coarse capacitive skin) and ``elastomer`` (the ideal
+sensor on a near-incompressible layer read with the layer's contact law; needs the ``fem``
+extra); each file names its sources and which of its numbers are assumed.
 """
 
 from __future__ import annotations
@@ -36,14 +39,14 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.perception.tactile.skin import SensorModel, SkinModel, SkinPreset
 
 #: Names of the shipped presets.
-SKIN_NAMES: tuple[str, ...] = ("ideal", "vision", "capacitive")
+SKIN_NAMES: tuple[str, ...] = ("ideal", "vision", "capacitive", "elastomer")
 #: The preset used when none is named.
 DEFAULT_SKIN: str = "ideal"
 #: Directory of the shipped presets.
 SKINS_DIR: Path = Path(__file__).resolve().parent / "skins"
 
 _TOP_KEYS = {"name", "description", "source", "pitch", "skin", "sensor"}
-_SKIN_KEYS = {"modulus", "thickness"}
+_SKIN_KEYS = {"modulus", "thickness", "poisson"}
 _SENSOR_KEYS = {"noise", "full_scale", "bits", "gain_spread", "dead_fraction", "blur", "threshold"}
 
 
