@@ -164,7 +164,7 @@ class SkinModel:
         :data:`SPHERE_TABLE_SPACING` thicknesses)."""
         d = max(float(penetration), 0.0)
         if self.poisson is None:
-            return float(np.pi * self.stiffness * radius * d * d)
+            return float(np.pi * self.stiffness * radius * (d * d))
         if d == 0.0:
             return 0.0
         depths, forces = _sphere_table(self, float(radius))
