@@ -24,8 +24,10 @@ listing it in ``SECTIONS``):
   nH's on the same contacts: area samples of the L-block and of 10 random composites (seeds
   200-209), and the paper's patterns on the four bodies (one part), with the parts it chose.
 - ``tactile``: exact against tactile sensing in the same run: the environment's steps per
-  second with random touches per backend (ideal skin), and ``explore``'s whole work (simulation,
-  fit, score, files, report picture) on the paper's four bodies, the two alternating.
+  second with random touches per backend (ideal skin; ``--tactile-mujoco-episodes`` MuJoCo
+  episodes, 20 by default: an episode's cost depends on its chaotic path, and over 5 the MuJoCo
+  ratio fell anywhere in 0.44-0.54 between runs), and ``explore``'s whole work (simulation, fit,
+  score, files, report picture) on the paper's four bodies, the two alternating.
 
 The machine is shared: every section records the 1-minute load average beside its timings;
 medians are quoted, and CPU seconds (which other processes change less) beside wall seconds.
@@ -292,7 +294,7 @@ def section_tactile(args: argparse.Namespace) -> dict[str, Any]:
 
     out: dict[str, Any] = {}
     for backend in args.backends:
-        episodes = args.env_episodes if backend == "analytic" else args.mujoco_episodes
+        episodes = args.env_episodes if backend == "analytic" else args.tactile_mujoco_episodes
         rows = {
             sensing: benchmark_env(backend, episodes, sensing=sensing) | {"load": _load()}
             for sensing in ("exact", "tactile")
@@ -384,6 +386,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--backends", nargs="+", default=["analytic", "mujoco"])
     parser.add_argument("--env-episodes", type=int, default=20, help="env: analytic episodes")
     parser.add_argument("--mujoco-episodes", type=int, default=5, help="env: MuJoCo episodes")
+    parser.add_argument("--tactile-mujoco-episodes", type=int, default=20,
+                        help="tactile: MuJoCo episodes per sensing (a ratio of chaotic episodes' "
+                             "costs: 5 put it anywhere in 0.44-0.55)")  # fmt: skip
     parser.add_argument("--vector-steps", type=int, default=1600,
                         help="env: analytic steps per variant (MuJoCo: half)")  # fmt: skip
     parser.add_argument("--num-envs", type=int, default=8, help="env: vector environments' N")

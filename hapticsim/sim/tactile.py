@@ -41,6 +41,7 @@ float32 vertices (``tests/sim/test_tactile.py``, ``docs/tactile/README.md``).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -228,11 +229,15 @@ def tip_object_contacts(data: mujoco.MjData, objects: set[int],
     finger) and the object's geoms: (contact index, finger, whether the object is
     ``geom[0]``)."""
     con = data.contact
+    efc = None  # each attribute of ``data.contact`` is a fresh copy: read it once, if needed
     for i, (g0, g1) in enumerate(con.geom.tolist()):
         first = g0 in objects
         finger = tip_finger.get(g1 if first else g0, -1)
-        if finger >= 0 and (first or g1 in objects) and con.efc_address[i] >= 0:
-            yield i, finger, first
+        if finger >= 0 and (first or g1 in objects):
+            if efc is None:
+                efc = con.efc_address
+            if efc[i] >= 0:
+                yield i, finger, first
 
 
 def finger_forces(model: mujoco.MjModel, data: mujoco.MjData, objects: set[int],
@@ -604,26 +609,34 @@ class TactileHand:
         ``docs/tactile/README.md``.
         """
         n = len(self.pads)
-        quadratic, linear, deepest = np.zeros(n), np.zeros(n), np.zeros(n)
-        where = np.zeros((n, 3))
+        # Called every control tick: plain floats and one read of each MuJoCo array (each
+        # attribute of ``data.contact`` is a fresh copy), not numpy's per-call overhead.
+        quadratic, linear, deepest = [0.0] * n, [0.0] * n, [0.0] * n
+        where: list[Array | None] = [None] * n
         con = data.contact
+        efc_address = dist = pos = friction = None
+        force6 = self._force6
         for i, finger, _ in tip_object_contacts(data, self._objects, self._tip_finger):
-            adr = int(con.efc_address[i])
-            penetration = -float(con.dist[i])
+            if efc_address is None:
+                efc_address, dist, pos, friction = (con.efc_address, con.dist, con.pos,
+                                                    con.friction)  # fmt: skip
+            adr = int(efc_address[i])
+            penetration = -float(dist[i])
             if penetration <= 0.0:
                 continue
             if penetration > deepest[finger]:
-                deepest[finger], where[finger] = penetration, con.pos[i]
+                deepest[finger], where[finger] = penetration, pos[i]
             stiffness, _, impedance, _ = data.efc_KBIP[adr]
             r_n = float(data.efc_R[adr])
             static = stiffness * impedance * penetration
-            mujoco.mj_contactForce(self.model, data, i, self._force6)
-            mu = float(con.friction[i, 0])
-            if self._force6[0] > 0 and np.hypot(*self._force6[1:3]) >= 0.98 * mu * self._force6[0]:
+            mujoco.mj_contactForce(self.model, data, i, force6)
+            mu = float(friction[i, 0])
+            if force6[0] > 0 and np.hypot(force6[1], force6[2]) >= 0.98 * mu * force6[0]:
                 r_t = float(data.efc_R[adr + 1])
                 denominator = r_n + mu * mu * r_t
                 quadratic[finger] += static / denominator
-                linear[finger] += mu * float(np.hypot(*data.efc_aref[adr + 1 : adr + 3])) / (
+                aref = data.efc_aref
+                linear[finger] += mu * float(np.hypot(aref[adr + 1], aref[adr + 2])) / (
                     denominator)  # fmt: skip
             else:
                 quadratic[finger] += static / r_n
@@ -644,8 +657,8 @@ class TactileHand:
                 new = SKIN_TAU_MAX
             else:  # a x^2 + b x = F in x = 1 / tau_new, a and b from the present tau
                 a, b = quadratic[k] * tau * tau, linear[k] * tau
-                new = 2.0 * a / (np.sqrt(b * b + 4.0 * a * target) - b)
-            self.model.geom_solref[geom, 0] = float(np.clip(new, lowest, SKIN_TAU_MAX))
+                new = 2.0 * a / (math.sqrt(b * b + 4.0 * a * target) - b)
+            self.model.geom_solref[geom, 0] = min(max(float(new), lowest), SKIN_TAU_MAX)
 
     def _object_motion(self, data: mujoco.MjData) -> tuple[Array, Array] | None:
         """A free object's rigid motion from rest to now (rotation, translation), else None."""

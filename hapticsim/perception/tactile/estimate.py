@@ -121,7 +121,9 @@ def _fit_quadratic(uv: Array, d: Array) -> tuple[Array, Array, float] | None:
     """Least-squares coefficients (6,) of ``c0 + cu u + cv v + cuu u^2 + cuv u v + cvv v^2``,
     the inverse normal matrix (6, 6) and the residual variance (None if rank deficient)."""
     u, v = uv[:, 0], uv[:, 1]
-    design = np.column_stack([np.ones_like(u), u, v, u * u, u * v, v * v])
+    design = np.empty((len(u), 6))
+    design[:, 0], design[:, 1], design[:, 2] = 1.0, u, v
+    design[:, 3], design[:, 4], design[:, 5] = u * u, u * v, v * v
     normal = design.T @ design
     scales, vectors = np.linalg.eigh(normal)  # symmetric: its condition number and inverse
     if not scales[0] > 0 or scales[-1] > 1e12 * scales[0]:
@@ -135,11 +137,12 @@ def _fit_quadratic(uv: Array, d: Array) -> tuple[Array, Array, float] | None:
 
 def _peak(coef: Array) -> tuple[Array, float] | None:
     """Stationary point (2,) and value of a concave quadratic, or None."""
-    c0, cu, cv, cuu, cuv, cvv = coef
-    hess = np.array([[2.0 * cuu, cuv], [cuv, 2.0 * cvv]])
-    if not (hess[0, 0] < 0 and np.linalg.det(hess) > 0):
+    c0, cu, cv, cuu, cuv, cvv = (float(c) for c in coef)
+    huu, huv, hvv = 2.0 * cuu, cuv, 2.0 * cvv  # the Hessian, in closed form (2 x 2)
+    det = huu * hvv - huv * huv
+    if not (huu < 0 and det > 0):
         return None
-    s = -np.linalg.solve(hess, np.array([cu, cv]))
+    s = np.array([(huv * cv - hvv * cu) / det, (huv * cu - huu * cv) / det])  # -H^-1 g
     value = c0 + 0.5 * (cu * s[0] + cv * s[1])
     return s, float(value)
 
@@ -150,8 +153,10 @@ def _peak_covariance(coef: Array, cov: Array, s: Array) -> tuple[Array, float]:
     ``s = -H^-1 g``, so ``ds = -H^-1 (dg + dH s)``: the columns of ds/dcoef are ``-H^-1`` times
     (1, 0) and (0, 1) for (cu, cv), (2 s_u, 0), (s_v, s_u), (0, 2 s_v) for (cuu, cuv, cvv); the
     value's gradient is (1, s_u, s_v, s_u^2, s_u s_v, s_v^2) at the stationary point."""
-    _, _, _, cuu, cuv, cvv = coef
-    inv = np.linalg.inv(np.array([[2.0 * cuu, cuv], [cuv, 2.0 * cvv]]))
+    _, _, _, cuu, cuv, cvv = (float(c) for c in coef)
+    huu, huv, hvv = 2.0 * cuu, cuv, 2.0 * cvv
+    det = huu * hvv - huv * huv  # > 0 at a peak (:func:`_peak`)
+    inv = np.array([[hvv, -huv], [-huv, huu]]) / det
     su, sv = s
     rhs = np.array([[0.0, 1.0, 0.0, 2.0 * su, sv, 0.0], [0.0, 0.0, 1.0, 0.0, su, 2.0 * sv]])
     jac = -inv @ rhs
