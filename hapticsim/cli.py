@@ -419,8 +419,8 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     p.add_argument(
         "--skin", default=None, metavar="PRESET|FILE.toml",
-        help="with --sensing tactile: ideal (default), vision, capacitive, elastomer (needs the "
-        "fem extra) or a skin file",
+        help="with --sensing tactile: ideal (default), vision, capacitive, elastomer or "
+        "gelsight_mini (these two need the fem extra) or a skin file",
     )  # fmt: skip
     p.add_argument(
         "--taxel-model", default="hapticsim", choices=("hapticsim", "mujoco"),

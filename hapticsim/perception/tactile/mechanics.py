@@ -60,6 +60,17 @@ Array = NDArray[np.float64]
 #: Active-set passes of the contact solution (it settles in 3-8).
 MAX_PASSES: int = 40
 
+#: A published sensor's force-indentation curve, indentation [m] -> normal force [N]: a rigid
+#: sphere of :data:`GELSIGHT_MINI_SPHERE_RADIUS` pressed into the gel of a GelSight Mini (the
+#: ground truth of the gel's material identification in Helmut, Dziarski, Funk, Belousov and
+#: Peters, arXiv 2411.03315, github.com/feats-ai/feats; their gel is 4 mm thick). The
+#: ``gelsight_mini`` skin preset is calibrated against it (scripts/skin_calibration.py).
+GELSIGHT_MINI_PRESSES: dict[float, float] = {
+    0.5e-3: 1.6503, 1.0e-3: 5.9641, 1.5e-3: 13.5257, 2.0e-3: 23.2532,
+}  # fmt: skip
+#: The radius [m] of that sphere (15 mm across).
+GELSIGHT_MINI_SPHERE_RADIUS: float = 7.5e-3
+
 
 @dataclass(frozen=True)
 class ContactSolution:
@@ -500,6 +511,7 @@ def layer_pressure(depth: Array, spacing: float, modulus: float, poisson: float,
 
 
 __all__ = [
+    "GELSIGHT_MINI_PRESSES", "GELSIGHT_MINI_SPHERE_RADIUS",
     "ContactSolution", "LayerKernel", "cylinder_depth", "fem_layer_line_press", "fem_layer_press",
     "fem_pad_press", "fem_punch_press", "grid_radii", "hertz_cylinder", "hertz_sphere",
     "layer_forces", "layer_kernel", "layer_pressure", "punch_half_space", "sphere_depth",

@@ -23,9 +23,11 @@ A skin file is a small TOML table; the shipped presets use the same format::
     threshold = 2000.0       # [Pa]
 
 Shipped (:data:`SKIN_NAMES`): ``ideal`` (no sensor effects), ``vision`` (a high-resolution
-vision-based pad), ``capacitive`` (a coarse capacitive skin) and ``elastomer`` (the ideal
-sensor on a near-incompressible layer read with the layer's contact law; needs the ``fem``
-extra); each file names its sources and which of its numbers are assumed.
+vision-based pad), ``capacitive`` (a coarse capacitive skin), ``elastomer`` (the ideal
+sensor on a near-incompressible layer read with the layer's contact law) and ``gelsight_mini``
+(the GelSight Mini's gel, its layer calibrated against the sensor's measured force-indentation
+curve; docs/tactile/calibration/README.md); the last two need the ``fem`` extra. Each file
+names its sources and which of its numbers are assumed.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ from hapticsim.errors import InvalidInputError
 from hapticsim.perception.tactile.skin import SensorModel, SkinModel, SkinPreset
 
 #: Names of the shipped presets.
-SKIN_NAMES: tuple[str, ...] = ("ideal", "vision", "capacitive", "elastomer")
+SKIN_NAMES: tuple[str, ...] = ("ideal", "vision", "capacitive", "elastomer", "gelsight_mini")
 #: The preset used when none is named.
 DEFAULT_SKIN: str = "ideal"
 #: Directory of the shipped presets.

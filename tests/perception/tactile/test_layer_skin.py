@@ -109,3 +109,20 @@ def test_without_scikit_fem_a_layer_skin_says_what_to_install(monkeypatch) -> No
     monkeypatch.setitem(sys.modules, "skfem", None)  # an import of it fails
     with pytest.raises(InvalidInputError, match=r"layer law\) needs scikit-fem: pip install"):
         SkinModel(2e5, 0.00123, 0.3).pressure(np.ones((3, 3)) * 1e-5, 1e-4)
+
+
+def test_the_gelsight_mini_preset_takes_the_sensors_measured_force() -> None:
+    """The calibrated preset against the published curve it was fitted to (four sphere presses
+    of 0.5-2 mm; measured: within 1.7 %, docs/tactile/calibration/README.md), and the Winkler law
+    of the same layer reads about half of it (0.49-0.55, measured)."""
+    from hapticsim.perception.tactile.mechanics import (
+        GELSIGHT_MINI_PRESSES,
+        GELSIGHT_MINI_SPHERE_RADIUS,
+    )
+
+    skin = load_skin("gelsight_mini").skin
+    winkler = SkinModel(skin.modulus, skin.thickness)
+    for depth, measured in GELSIGHT_MINI_PRESSES.items():
+        force = skin.sphere_force(GELSIGHT_MINI_SPHERE_RADIUS, depth)
+        assert force == pytest.approx(measured, rel=0.03), depth
+        assert winkler.sphere_force(GELSIGHT_MINI_SPHERE_RADIUS, depth) < 0.6 * measured

@@ -92,7 +92,7 @@ def test_every_preset_loads_and_names_its_sources() -> None:
 def test_unknown_preset_suggests_the_nearest() -> None:
     with pytest.raises(SkinError, match=r"did you mean 'vision'"):
         load_skin("visoin")
-    with pytest.raises(SkinError, match="ideal, vision, capacitive, elastomer"):
+    with pytest.raises(SkinError, match="ideal, vision, capacitive, elastomer, gelsight_mini"):
         load_skin("nothing-like-it")
 
 
