@@ -2,8 +2,11 @@
 
     python scripts/nml_heldout.py --out docs/nml/heldout_v3.json \
         --rows docs/nml/heldout_v3_rows.json
+    python scripts/nml_heldout.py --set final --out docs/nml/heldout_final.json \
+        --rows docs/nml/heldout_final_rows.json
 
-Families (each case at a random pose; data seed = case seed + 7919, fit seed = case seed):
+Families of ``--set v3``, the default (each case at a random pose; data seed = case seed + 7919,
+fit seed = case seed):
 
 - ``paper``: the paper's pattern (``paper_dataset``), 150 contacts, on the paper's bodies and on
   random tapered superquadrics;
@@ -18,9 +21,33 @@ Families (each case at a random pose; data seed = case seed + 7919, fit seed = c
 - ``extreme``: extreme exponents (each in [0.1, 0.25] or [1.5, 2.0]), the paper's pattern;
 - ``sparse``: the paper's pattern with 40 contacts on the paper's bodies.
 
-Variants: ``nH``, ``oracle`` (nLS from the truth), ``nML`` (the defaults) and ``nML-free``
-(nML without the extent anchor, ``MLOptions(anchor=None)``). Prints JSON: mean epsilon per
-family, noise level and variant, nML's worst case against nH, paired tests, median CPU seconds.
+``--set guard``: the families nML's guard (``MLOptions.guard``) was chosen on (issue 37 item 3;
+each case as above, 150 contacts unless said):
+
+- ``uniform``: contacts area-uniform over the whole surface of random tapered shapes;
+- ``tophalf``: a patch over the upper cap (eta 10-80 deg, all round) and a stripe down one side;
+- ``opposite``: two patches on opposite faces (+x and -x) only;
+- ``dense``: the paper's pattern with 300 contacts;
+- ``plates``: flat random plates (a3 6-12 mm), the ``opposite`` pattern;
+- ``corner``: one patch over a corner (eta, omega in 10-80 deg) only;
+- ``equator``: a stripe all round the equator and a patch on the top;
+- ``patches5``: five small patches at random places;
+- ``boxes`` (exponents 0.1-0.3), ``round`` (0.8-1.2) and ``sparse80`` (80 contacts): the paper's
+  pattern.
+
+``--set final``: families drawn after the guard was fixed and run once, for its figures:
+
+- ``stripes3``: three parallel stripes across the top (no patch);
+- ``belts``: two stripes all round at eta = +-30 deg;
+- ``long``: random shapes with one semi-axis 2.5-4 times the others, the paper's pattern;
+- ``tiny``: random shapes of 8-20 mm semi-axes, the paper's pattern;
+- ``half300``: 300 contacts area-uniform over the half of the surface with x > 0 (body frame).
+
+Variants: ``nH``, ``oracle`` (nLS from the truth), ``nML`` (the defaults), ``nML-free``
+(nML without the extent anchor, ``MLOptions(anchor=None)``) and ``nML-unguarded`` (without the
+guard, ``MLOptions(guard=None)``). Prints JSON: mean epsilon per family, noise level and
+variant, nML's worst case against nH and how many cases are worse than nH's by more than 0.10,
+paired tests, median CPU seconds.
 """
 
 from __future__ import annotations
@@ -36,7 +63,8 @@ from typing import Any
 import numpy as np
 
 NOISES = (0.0, 0.02, 0.05, 0.1)
-VARIANTS = ("nH", "oracle", "nML", "nML-free")
+VARIANTS = ("nH", "oracle", "nML", "nML-free", "nML-unguarded")
+SETS = ("v3", "guard", "final")
 _D = np.pi / 180.0
 _CORNER = float(np.arctan(1.0 / np.sqrt(2.0)))
 ELONGATED = (  # semi-axes [m] and exponents
@@ -56,6 +84,35 @@ def _split(count: int, weights: list[float]) -> list[int]:
 def _patterns(name: str, count: int) -> list[Any]:
     from hapticsim.data.patterns import Patch, Stripe
 
+    if name == "tophalf":
+        c = _split(count, [0.6, 0.4])
+        return [Patch((10 * _D, 80 * _D), (-180 * _D, 180 * _D), c[0]),
+                Stripe((5 * _D, -170 * _D), (85 * _D, 10 * _D), c[1])]  # fmt: skip
+    if name in ("opposite", "plates"):
+        c = _split(count, [0.5, 0.5])
+        return [Patch((-40 * _D, 40 * _D), (-35 * _D, 35 * _D), c[0]),
+                Patch((-40 * _D, 40 * _D), (145 * _D, 215 * _D), c[1])]  # fmt: skip
+    if name == "corner":
+        return [Patch((10 * _D, 80 * _D), (10 * _D, 80 * _D), count)]
+    if name == "equator":
+        c = _split(count, [0.73, 0.27])
+        return [Stripe((0.0, -179 * _D), (0.0, 179 * _D), c[0]),
+                Patch((60 * _D, 85 * _D), (-180 * _D, 180 * _D), c[1])]  # fmt: skip
+    if name == "patches5":  # five small patches at places of their own (a fixed draw)
+        gen = np.random.default_rng(count)
+        out = []
+        for c in _split(count, [1.0] * 5):
+            e, w = gen.uniform(-70, 70) * _D, gen.uniform(-180, 180) * _D
+            out.append(Patch((e - 12 * _D, e + 12 * _D), (w - 15 * _D, w + 15 * _D), c))
+        return out
+    if name == "stripes3":
+        c = _split(count, [1.0, 1.0, 1.0])
+        return [Stripe((20 * _D, w * _D), (85 * _D, w * _D), k)
+                for w, k in zip((-30, 0, 30), c, strict=True)]  # fmt: skip
+    if name == "belts":
+        c = _split(count, [0.5, 0.5])
+        return [Stripe((e * _D, -179 * _D), (e * _D, 179 * _D), k)
+                for e, k in zip((30, -30), c, strict=True)]  # fmt: skip
     if name == "front":
         c = _split(count, [0.34, 0.17, 0.17, 0.17, 0.15])
         return [
@@ -73,10 +130,31 @@ def _patterns(name: str, count: int) -> list[Any]:
     ]
 
 
-def cases() -> list[tuple[str, str, int, float, int]]:
-    """(family, shape, seed, noise, contacts) of every case; the pattern follows the family
-    (``elongated`` alternates paper and side by seed)."""
+def cases(which: str = "v3") -> list[tuple[str, str, int, float, int]]:
+    """(family, shape, seed, noise, contacts) of every case of a set (:data:`SETS`, module
+    docstring); the pattern follows the family (``elongated`` alternates paper and side by
+    seed)."""
     out = []
+    if which == "guard":
+        for noise in NOISES:
+            out += [("uniform", "random", s, noise, 150) for s in range(9000, 9010)]
+            out += [("tophalf", "random", s, noise, 150) for s in range(9100, 9110)]
+            out += [("opposite", "random", s, noise, 150) for s in range(9200, 9210)]
+            out += [("dense", "random", s, noise, 300) for s in range(9300, 9306)]
+            out += [("plates", "plate", s, noise, 150) for s in range(9400, 9406)]
+            for k, family in enumerate(("corner", "equator", "patches5", "boxes", "round",
+                                        "sparse80")):  # fmt: skip
+                shape = family if family in ("boxes", "round") else "random"
+                out += [(family, shape, 20000 + 100 * k + s, noise, 80 if family == "sparse80"
+                         else 150) for s in range(8)]  # fmt: skip
+        return out
+    if which == "final":
+        for noise in NOISES:
+            for k, family in enumerate(("stripes3", "belts", "long", "tiny", "half300")):
+                shape = family if family in ("long", "tiny") else "random"
+                out += [(family, shape, 30000 + 100 * k + s, noise,
+                         300 if family == "half300" else 150) for s in range(8)]  # fmt: skip
+        return out
     for noise in NOISES:
         out += [("paper", body, s, noise, 150) for body in
                 ("tapered_box", "cube", "cylinder", "ellipsoid") for s in range(100, 103)]
@@ -101,6 +179,23 @@ def _truth(shape: str, seed: int) -> Any:
     rng = np.random.default_rng(seed)
     if shape == "random":
         body = random_superquadric(rng, tapered=True)
+    elif shape == "plate":
+        a = [rng.uniform(0.03, 0.06), rng.uniform(0.03, 0.06), rng.uniform(0.006, 0.012)]
+        body = Superquadric(a=a, eps=rng.uniform(0.1, 1.0, 2), taper=rng.uniform(-0.2, 0.2, 2))
+    elif shape in ("boxes", "round"):
+        low, high = (0.1, 0.3) if shape == "boxes" else (0.8, 1.2)
+        body = Superquadric(a=rng.uniform(0.015 if shape == "boxes" else 0.02, 0.05, 3),
+                            eps=rng.uniform(low, high, 2),
+                            taper=rng.uniform(-0.2, 0.2, 2) if shape == "boxes" else
+                            rng.uniform(-0.1, 0.1, 2))  # fmt: skip
+    elif shape == "long":
+        short = rng.uniform(0.012, 0.025)
+        a = [short * rng.uniform(2.5, 4.0), short, short * rng.uniform(0.8, 1.2)]
+        body = Superquadric(a=rng.permutation(a), eps=rng.uniform(0.2, 1.2, 2),
+                            taper=rng.uniform(-0.3, 0.3, 2))  # fmt: skip
+    elif shape == "tiny":
+        body = Superquadric(a=rng.uniform(0.008, 0.02, 3), eps=rng.uniform(0.1, 1.5, 2),
+                            taper=rng.uniform(-0.3, 0.3, 2))  # fmt: skip
     elif shape.startswith("elongated"):
         a, eps = ELONGATED[int(shape[len("elongated"):])]
         body = Superquadric(a=a, eps=eps)
@@ -122,11 +217,18 @@ def _contacts(family: str, truth: Any, noise: float, seed: int, count: int) -> A
     pattern = family
     if family == "elongated":
         pattern = "paper" if seed % 2 == 0 else "side"
-    if pattern in ("paper", "extreme", "sparse"):
+    if pattern in ("paper", "extreme", "sparse", "dense", "boxes", "round", "sparse80", "long",
+                   "tiny"):  # fmt: skip
         data = paper_dataset(truth, noise=noise, rng=seed + 7919, count=count)
         return data.points, data.normals
     gen = np.random.default_rng(seed + 7919)
-    points, normals, _ = sample_patterns(truth, _patterns(pattern, count), gen)
+    if pattern in ("uniform", "half300"):
+        points, normals = truth.sample_surface(count if pattern == "uniform" else 4 * count, gen)
+        if pattern == "half300":  # the half with x > 0 in the body frame
+            keep = (points - truth.center) @ truth.rotation[:, 0] > 0
+            points, normals = points[keep][:count], normals[keep][:count]
+    else:
+        points, normals, _ = sample_patterns(truth, _patterns(pattern, count), gen)
     return add_noise(points, normals, noise, float(np.mean(truth.a)), gen)
 
 
@@ -146,7 +248,8 @@ def _task(case: tuple[str, str, int, float, int]) -> list[dict[str, Any]]:
         elif variant == "nH":
             result = fit(points, normals, method="nH", rng=seed)
         else:
-            options = MLOptions(anchor=None) if variant == "nML-free" else None
+            options = {"nML-free": MLOptions(anchor=None),
+                       "nML-unguarded": MLOptions(guard=None)}.get(variant)  # fmt: skip
             result = fit(points, normals, method="nML", rng=seed, options=options)
         cpu = time.process_time() - cpu
         overlap = volume_overlap(result.superquadric, truth, samples=20000, rng=seed)
@@ -171,7 +274,12 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
             cell = {v: round(float(np.mean(e)), 4) for v, e in eps.items()}
             cell["cases"] = len(eps["nH"])
             cell["nML_worst_vs_nH"] = round(float(np.max(d_nh)), 4)
-            cell["nML-free_worst_vs_nH"] = round(float(np.max(eps["nML-free"] - eps["nH"])), 4)
+            cell["nML_cases_worse_by_0.1"] = int(np.sum(d_nh > 0.10))
+            for other in ("nML-free", "nML-unguarded"):
+                cell[f"{other}_worst_vs_nH"] = round(float(np.max(eps[other] - eps["nH"])), 4)
+            cell["nML-unguarded_cases_worse_by_0.1"] = int(
+                np.sum(eps["nML-unguarded"] - eps["nH"] > 0.10)
+            )
             if noise > 0 and np.any(d_or != 0):
                 cell["nML_vs_oracle_p"] = float(wilcoxon(d_or, alternative="less").pvalue)
             table.setdefault(family, {})[str(noise)] = cell
@@ -186,8 +294,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--processes", type=int, default=2)
     parser.add_argument("--out", default=None, help="write the summary JSON here too")
     parser.add_argument("--rows", default=None, help="write every case's row here")
+    parser.add_argument("--set", default="v3", choices=SETS, help="which families")
     args = parser.parse_args(argv)
-    todo = cases()
+    todo = cases(args.set)
     start, load = time.perf_counter(), os.getloadavg()[0]
     rows: list[dict[str, Any]] = []
     with ProcessPoolExecutor(args.processes) as pool:

@@ -32,7 +32,7 @@ from hapticsim.fitting.methods import (
     TRACK_METHODS,
     uses_normals,
 )
-from hapticsim.fitting.ml import MLOptions, ml_objective, ml_search
+from hapticsim.fitting.ml import MLOptions, guarded, ml_objective, ml_search
 from hapticsim.fitting.multi import multi_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult, PartSelection
@@ -225,10 +225,12 @@ def fit(
                          message="least squares from starts on each principal axis")  # fmt: skip
     # A search in another metric keeps one evaluation back to report the SPEC EOF.
     data_normals = nrm if uses_normals(method) else None
-    run = None
+    run, kept = None, ""
     if ml:
-        objective = ml_objective(pts, data_normals, n_evals - 1, noise_level, free_pts, options,
-                                 multipliers, ratio)  # fmt: skip
+        opt = MLOptions() if options is None else options
+        checks = opt.guard is not None and opt.search == "eof"  # one more EOF: the basin's
+        objective = ml_objective(pts, data_normals, n_evals - 1 - checks, noise_level, free_pts,
+                                 options, multipliers, ratio)  # fmt: skip
         run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, noise_level, options,
                         multipliers, ratio)  # fmt: skip
         status = run.status
@@ -247,6 +249,12 @@ def fit(
     if not spec:
         r = objective.contacts.residuals(best, weight, tapered=False)  # the SPEC §2 EOF
         eof, evaluations = float(np.mean(r**2)), evaluations + 1
+    if run is not None and run.basin is not None and opt.guard is not None:
+        r = objective.contacts.residuals(run.basin, weight, tapered=False)
+        basin_eof, evaluations = float(np.mean(r**2)), evaluations + 1
+        kept = guarded((eof, basin_eof), opt.guard)
+        if kept:
+            best, eof = run.basin, basin_eof
     seconds = time.perf_counter() - start
     posterior = None
     if uncertainty:
@@ -261,7 +269,7 @@ def fit(
         seconds=seconds,
         history=objective.history(),
         status=status,
-        message=_MESSAGES[status],
+        message=_MESSAGES[status] + (f"; kept the EOF search's solid: {kept}" if kept else ""),
         noise=None if run is None else run.noise,
         setup_seconds=setup,
         uncertainty=posterior,

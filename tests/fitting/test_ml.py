@@ -91,6 +91,27 @@ def test_nml_does_not_fall_back_to_the_paper_eof() -> None:
     assert objective.eof(pure.superquadric.to_vector()[None])[0] < 0.9 * costs[1]
 
 
+def test_the_guard_keeps_the_search_solid_where_the_ml_terms_pull_an_exact_fit_off() -> None:
+    """Clean contacts of a cube and a strong prior towards round exponents: the ML estimate
+    leaves the exact fit (measured EOF 7e-13 to 2e-12), so the guard returns the EOF search's
+    solid (EOF 1e-26 or below, 1e14 times smaller: far beyond the guard's factor of 3); without
+    the guard the ML estimate stands."""
+    from hapticsim.fitting.ml import guarded
+
+    assert guarded((10.0, 1.0), 3.0) and not guarded((2.9, 1.0), 3.0)
+    truth, data = _data("cube", 0.0, 0)
+    strong = MLOptions(eps_prior=(1.0, 0.05))
+    kept = fit(data.points, data.normals, method="nML", rng=0, options=strong)
+    free = fit(data.points, data.normals, method="nML", rng=0,
+               options=with_options(strong, guard=None))  # fmt: skip
+    assert "kept the EOF search's solid" in kept.message
+    assert "kept" not in free.message
+    assert kept.eof < 1e-6 * free.eof
+    assert kept.evaluations <= DEFAULT_BUDGET and free.evaluations <= DEFAULT_BUDGET
+    with pytest.raises(InvalidInputError, match="guard"):
+        MLOptions(guard=0.0)
+
+
 def test_free_space_keeps_the_fit_out_of_where_the_fingertip_was() -> None:
     truth, data = _data("ellipsoid", 0.1, 5)
     # Free points 3 mm outside the true surface all round (a fingertip's approach paths).
