@@ -1,9 +1,24 @@
-"""Objects with holes explored by the hand: one superquadric (nH), a union (multi), a supertoroid,
-and multi's choice between a union and a ring (``multi`` with ``holes=True``), on the same
-contacts: the table of docs/objects.md ("Objects with holes").
+"""Objects explored by the hand: one superquadric (nH), a union (multi), a supertoroid, and
+multi's choice between a union and a ring (``multi`` with ``holes=True``), on the same contacts:
+the tables of docs/objects.md ("Objects with holes"; "Every family", issue 37 item 4).
 
     python scripts/holed_table.py --out docs/objects/holed/holed_table.json   # ~8 min, 2 cores
     python scripts/holed_table.py --sensing vision --out docs/objects/holed/vision/holed_table.json
+    python scripts/holed_table.py --families more --out docs/objects/families/exact.json
+    python scripts/holed_table.py --families more --sensing vision \
+        --out docs/objects/families/vision.json
+
+``--families more`` runs these four families (``all``: them and the four below, which
+``--families holed``, the default, runs):
+
+- ``random``: random tapered superquadrics (``random_tapered``, object seeds 400-405);
+- ``hammers``: a head and a handle (:func:`hammer`, seeds 500-507): a handle of 4-6 cm half
+  length and 6-10 mm radius, a box-like head across its end; never used while multi was written;
+- ``pybullet``: pybullet's teddy, mug and duck, and its torus at 75 mm (``torus_textured.obj``
+  at scale 0.05; extra ``objects``);
+- ``everyday``: six everyday objects built with trimesh and written as float32 STL files
+  (:func:`everyday_meshes`: a bottle, a can, a tea box, a pill, a fruit and a roll of tape),
+  read back through the mesh loader and its repairs as a lab's files would be.
 
 Families (none of their objects was seen while the supertoroid fit and the rings-in-multi rule
 were written; those were tried on area-uniform samples of other random rings, bodies with
@@ -36,6 +51,15 @@ import numpy as np
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
+FAMILY_SETS = {"holed": ("holed", "handled", "bodies", "composites"),
+               "more": ("random", "hammers", "pybullet", "everyday"),
+               "all": ("holed", "handled", "bodies", "composites", "random", "hammers",
+                       "pybullet", "everyday")}  # fmt: skip
+RANDOM_SEEDS = tuple(range(400, 406))
+HAMMER_SEEDS = tuple(range(500, 508))
+PYBULLET = (("pybullet:teddy", 1.0), ("pybullet:mug", 1.0), ("pybullet:duck", 1.0),
+            ("pybullet:torus/torus_textured.obj", 0.05))  # fmt: skip
+EVERYDAY = ("bottle", "can", "tea_box", "pill", "fruit", "tape_roll")
 HOLED_SEEDS = tuple(range(100, 110))
 HANDLED_SEEDS = tuple(range(300, 310))
 COMPOSITE_SEEDS = tuple(range(200, 208))
@@ -46,11 +70,79 @@ ESTIMATORS = (("nH", "nH", {}), ("multi", "multi", {}), ("supertoroid", "superto
 COUNTS = (150, 300)
 
 
+def hammer(seed: int) -> Any:
+    """A head and a handle: a rounded-cylinder handle (half length 4-6 cm, radius 6-10 mm) and
+    a box-like head (exponents 0.1-0.5) across its end, 60 % of the head's height past it, in a
+    random orientation, the union centred on its volume centre."""
+    from hapticsim.geometry import Superquadric, SuperquadricUnion, random_rotation
+
+    rng = np.random.default_rng(seed)
+    length, radius = rng.uniform(0.04, 0.06), rng.uniform(0.006, 0.010)
+    head_a = [rng.uniform(0.02, 0.035), rng.uniform(0.008, 0.014), rng.uniform(0.008, 0.014)]
+    handle = Superquadric(a=[radius, radius, length], eps=[0.3, 1.0])
+    head = Superquadric(a=head_a, eps=rng.uniform(0.1, 0.5, 2),
+                        center=[0.0, 0.0, length + 0.6 * head_a[2]])  # fmt: skip
+    union = SuperquadricUnion([handle, head]).transformed(random_rotation(rng), np.zeros(3))
+    samples = union.sample_interior(20000, np.random.default_rng(0))
+    return union.transformed(np.eye(3), -samples.mean(axis=0))
+
+
+def everyday_meshes(folder: Any) -> dict[str, str]:
+    """Six everyday objects as float32 STL files in `folder` (name -> path), built with trimesh:
+    a bottle (a cylinder, a cone for the shoulder and a neck), a can, a tea box, a pill (a
+    capsule), a fruit (a squashed sphere) and a roll of tape (an annulus: a hole)."""
+    import trimesh
+    from trimesh import creation
+
+    def bottle() -> Any:
+        body = creation.cylinder(radius=0.03, height=0.09, sections=48)
+        shoulder = creation.cone(radius=0.03, height=0.03, sections=48)
+        shoulder.apply_translation([0, 0, 0.045])
+        neck = creation.cylinder(radius=0.011, height=0.04, sections=32)
+        neck.apply_translation([0, 0, 0.075])
+        return trimesh.boolean.union([body, shoulder, neck], engine="manifold")
+
+    fruit = creation.icosphere(subdivisions=3, radius=0.04)
+    fruit.apply_scale([1.0, 1.0, 0.85])
+    meshes = {
+        "bottle": bottle(),
+        "can": creation.cylinder(radius=0.033, height=0.12, sections=40),
+        "tea_box": creation.box(extents=[0.1, 0.04, 0.14]),
+        "pill": creation.capsule(height=0.05, radius=0.012, count=[24, 24]),
+        "fruit": fruit,
+        "tape_roll": creation.annulus(r_min=0.025, r_max=0.04, height=0.025, sections=48),
+    }
+    paths = {}
+    for name, mesh in meshes.items():
+        path = f"{folder}/{name}.stl"
+        mesh.export(path)  # binary STL: float32 coordinates, as files come
+        paths[name] = path
+    return paths
+
+
 def _truth(family: str, index: int) -> Any:
     from hapticsim.data import get_body
-    from hapticsim.data.objects import random_composite, random_handled, random_holed
+    from hapticsim.data.objects import (
+        ObjectSpec,
+        random_composite,
+        random_handled,
+        random_holed,
+        random_superquadric,
+    )
     from hapticsim.geometry import random_rotation
 
+    if family == "random":
+        return random_superquadric(np.random.default_rng(index), tapered=True)
+    if family == "hammers":
+        return hammer(index)
+    if family == "pybullet":
+        source, scale = PYBULLET[index]
+        return ObjectSpec(source, scale=scale).resolve()
+    if family == "everyday":
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as folder:
+            return ObjectSpec(everyday_meshes(folder)[EVERYDAY[index]]).resolve()
     if family == "holed":
         return random_holed(index)
     if family == "handled":
@@ -84,7 +176,9 @@ def _task(task: tuple[str, int, str]) -> list[dict[str, Any]]:
     for count in COUNTS:
         pts, nrm = a["points_clean"][:count], a["normals_clean"][:count]
         row: dict[str, Any] = {"family": family, "object": index, "truth": truth.kind,
-                               "count": int(len(pts))}  # fmt: skip
+                               "count": int(len(pts)), "asked": count}  # fmt: skip
+        if getattr(truth, "repair", None):
+            row["mesh_repair"] = truth.repair
         for name, method, kwargs in ESTIMATORS:
             start = time.process_time()
             result = fit(pts, nrm, method=method, rng=fit_seed, **kwargs)
@@ -105,11 +199,11 @@ def _task(task: tuple[str, int, str]) -> list[dict[str, Any]]:
     return rows
 
 
-def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
+def _summary(rows: list[dict[str, Any]], families: tuple[str, ...]) -> dict[str, Any]:
     out: dict[str, Any] = {}
-    for family in ("holed", "handled", "bodies", "composites"):
+    for family in families:
         for count in COUNTS:
-            sel = [r for r in rows if r["family"] == family and r.get("count") == count]
+            sel = [r for r in rows if r["family"] == family and r.get("asked") == count]
             failed = sum(1 for r in rows if r["family"] == family and "error" in r)
             entry: dict[str, Any] = {"runs": len(sel), "failed": failed}
             for name, _, _ in ESTIMATORS:
@@ -118,6 +212,7 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
                 entry[name] = {
                     "iou_mean": float(np.mean([r[name]["iou"] for r in sel])),
                     "iou_min": float(np.min([r[name]["iou"] for r in sel])),
+                    "parts_mean": float(np.mean([r[name]["parts"] for r in sel])),
                     "chamfer_mm_mean": float(np.mean([r[name]["chamfer_mm"] for r in sel])),
                     "f_score_2.5_mean": float(np.mean([r[name]["f_score_2.5"] for r in sel])),
                     "seconds_median": float(np.median([r[name]["seconds"] for r in sel])),
@@ -154,6 +249,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sensing", choices=("exact", "vision", "capacitive"), default="exact",
                         help="exact contacts, or estimated from taxel pads with this skin")
     parser.add_argument("--markdown", action="store_true", help="print the table on stderr")
+    parser.add_argument("--families", choices=tuple(FAMILY_SETS), default="holed",
+                        help="holed: the holed families and their controls; more: random, "
+                             "hammers, pybullet, everyday; all: both")  # fmt: skip
     args = parser.parse_args(argv)
     from hapticsim.suites.provenance import manifest
 
@@ -161,14 +259,16 @@ def main(argv: list[str] | None = None) -> int:
     record = manifest(command)  # at the start: the code that runs
     load = os.getloadavg()[0]
     start = time.perf_counter()
-    tasks = ([("holed", s) for s in HOLED_SEEDS] + [("handled", s) for s in HANDLED_SEEDS]
-             + [("bodies", k) for k in range(8)]
-             + [("composites", s) for s in COMPOSITE_SEEDS])  # fmt: skip
+    families = FAMILY_SETS[args.families]
+    indices = {"holed": HOLED_SEEDS, "handled": HANDLED_SEEDS, "bodies": range(8),
+               "composites": COMPOSITE_SEEDS, "random": RANDOM_SEEDS, "hammers": HAMMER_SEEDS,
+               "pybullet": range(len(PYBULLET)), "everyday": range(len(EVERYDAY))}
+    tasks = [(family, int(i)) for family in families for i in indices[family]]
     tasks = [(family, index, args.sensing) for family, index in tasks]
     print(f"holed table: {len(tasks)} explorations on {args.workers} workers", file=sys.stderr)
     with Pool(args.workers) as pool:
         rows = [r for chunk in pool.imap(_task, tasks) for r in chunk]
-    summary = _summary(rows)
+    summary = _summary(rows, families)
     result = {
         "command": " ".join(command),
         "sensing": args.sensing,
