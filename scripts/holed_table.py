@@ -87,8 +87,9 @@ def hammer(seed: int) -> Any:
     return union.transformed(np.eye(3), -samples.mean(axis=0))
 
 
-def everyday_meshes(folder: Any) -> dict[str, str]:
-    """Six everyday objects as float32 STL files in `folder` (name -> path), built with trimesh:
+def everyday_meshes(folder: Any, names: tuple[str, ...] = EVERYDAY) -> dict[str, str]:
+    """Everyday objects (`names`, of :data:`EVERYDAY`) as float32 STL files in `folder`
+    (name -> path), built with trimesh:
     a bottle (a cylinder, a cone for the shoulder and a neck), a can, a tea box, a pill (a
     capsule), a fruit (a squashed sphere) and a roll of tape (an annulus: a hole)."""
     import trimesh
@@ -102,20 +103,23 @@ def everyday_meshes(folder: Any) -> dict[str, str]:
         neck.apply_translation([0, 0, 0.075])
         return trimesh.boolean.union([body, shoulder, neck], engine="manifold")
 
-    fruit = creation.icosphere(subdivisions=3, radius=0.04)
-    fruit.apply_scale([1.0, 1.0, 0.85])
-    meshes = {
-        "bottle": bottle(),
-        "can": creation.cylinder(radius=0.033, height=0.12, sections=40),
-        "tea_box": creation.box(extents=[0.1, 0.04, 0.14]),
-        "pill": creation.capsule(height=0.05, radius=0.012, count=[24, 24]),
+    def fruit() -> Any:
+        mesh = creation.icosphere(subdivisions=3, radius=0.04)
+        mesh.apply_scale([1.0, 1.0, 0.85])
+        return mesh
+
+    makers = {
+        "bottle": bottle,
+        "can": lambda: creation.cylinder(radius=0.033, height=0.12, sections=40),
+        "tea_box": lambda: creation.box(extents=[0.1, 0.04, 0.14]),
+        "pill": lambda: creation.capsule(height=0.05, radius=0.012, count=[24, 24]),
         "fruit": fruit,
-        "tape_roll": creation.annulus(r_min=0.025, r_max=0.04, height=0.025, sections=48),
+        "tape_roll": lambda: creation.annulus(r_min=0.025, r_max=0.04, height=0.025, sections=48),
     }
     paths = {}
-    for name, mesh in meshes.items():
+    for name in names:
         path = f"{folder}/{name}.stl"
-        mesh.export(path)  # binary STL: float32 coordinates, as files come
+        makers[name]().export(path)  # binary STL: float32 coordinates, as files come
         paths[name] = path
     return paths
 
@@ -142,7 +146,8 @@ def _truth(family: str, index: int) -> Any:
         import tempfile
 
         with tempfile.TemporaryDirectory() as folder:
-            return ObjectSpec(everyday_meshes(folder)[EVERYDAY[index]]).resolve()
+            name = EVERYDAY[index]
+            return ObjectSpec(everyday_meshes(folder, (name,))[name]).resolve()
     if family == "holed":
         return random_holed(index)
     if family == "handled":
