@@ -388,7 +388,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mujoco-episodes", type=int, default=5, help="env: MuJoCo episodes")
     parser.add_argument("--tactile-mujoco-episodes", type=int, default=20,
                         help="tactile: MuJoCo episodes per sensing (a ratio of chaotic episodes' "
-                             "costs: 5 put it anywhere in 0.44-0.55)")  # fmt: skip
+                             "costs: 5 put it anywhere in 0.44-0.54)")  # fmt: skip
     parser.add_argument("--vector-steps", type=int, default=1600,
                         help="env: analytic steps per variant (MuJoCo: half)")  # fmt: skip
     parser.add_argument("--num-envs", type=int, default=8, help="env: vector environments' N")

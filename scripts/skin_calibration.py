@@ -72,7 +72,7 @@ def minimax_modulus(unit: dict[float, float], points: tuple[float, ...]) -> floa
     return math.sqrt(min(ratios) * max(ratios))
 
 
-def errors(modulus: float, forces: dict[float, float]) -> dict[str, float]:
+def errors(forces: dict[float, float]) -> dict[str, float]:
     """Relative error of forces [N] (per indentation, keyed in mm) against the measured."""
     return {f"{d * 1e3:g}": forces[d] / MEASURED[d] - 1.0 for d in MEASURED}
 
@@ -83,7 +83,7 @@ def table() -> dict[str, Any]:
     for nu in POISSON:
         units[nu] = unit = unit_forces(nu)
         modulus = minimax_modulus(unit, tuple(MEASURED))
-        err = errors(modulus, {d: modulus * unit[d] for d in MEASURED})
+        err = errors({d: modulus * unit[d] for d in MEASURED})
         rows.append({"poisson": nu, "modulus": modulus, "errors": err,
                      "max_error": max(abs(v) for v in err.values())})  # fmt: skip
         sys.stderr.write(
@@ -118,7 +118,7 @@ def table() -> dict[str, Any]:
     }
     shipped = load_skin("gelsight_mini").skin  # the preset file, its modulus rounded
     shipped_law = {d: shipped.sphere_force(RADIUS, d) for d in MEASURED}
-    cited = unit_forces(0.49)  # the cited modulus (incompressible), nearest ratio the FE takes
+    cited = units[0.49]  # the cited modulus (incompressible), nearest ratio the FE takes
     return {
         "sensor": "GelSight Mini",
         "source": "Helmut et al., arXiv 2411.03315; github.com/feats-ai/feats, "
@@ -127,15 +127,15 @@ def table() -> dict[str, Any]:
         "measured_N": {f"{d * 1e3:g}": f for d, f in MEASURED.items()},
         "search": rows,
         "preset": {"modulus": modulus, "poisson": nu, "thickness": THICKNESS,
-                   "fe_errors": chosen["errors"], "skin_errors": errors(modulus, law)},
+                   "fe_errors": chosen["errors"], "skin_errors": errors(law)},
         "shipped_preset": {"modulus": shipped.modulus, "poisson": shipped.poisson,
                            "thickness": shipped.thickness,
-                           "skin_errors": errors(shipped.modulus, shipped_law)},
+                           "skin_errors": errors(shipped_law)},
         "held_out": held_out,
         "presses": presses,
         "cited_modulus": {"modulus": CITED_MODULUS,
-                          "fe_errors_at_0.49": errors(CITED_MODULUS, {d: CITED_MODULUS * cited[d]
-                                                                      for d in MEASURED})},
+                          "fe_errors_at_0.49": errors({d: CITED_MODULUS * cited[d]
+                                                              for d in MEASURED})},
     }  # fmt: skip
 
 
