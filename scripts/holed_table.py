@@ -8,12 +8,18 @@ the tables of docs/objects.md ("Objects with holes"; "Every family", issue 37 it
     python scripts/holed_table.py --families more --sensing vision \
         --out docs/objects/families/vision.json
 
-``--families more`` runs these four families (``all``: them and the four below, which
+``--families more`` runs these six families (``all``: them and the four below, which
 ``--families holed``, the default, runs):
 
 - ``random``: random tapered superquadrics (``random_tapered``, object seeds 400-405);
 - ``hammers``: a head and a handle (:func:`hammer`, seeds 500-507): a handle of 4-6 cm half
-  length and 6-10 mm radius, a box-like head across its end; never used while multi was written;
+  length and 6-10 mm radius, a box-like head across its end; never used while multi was
+  written, but multi's retraction of untouched ends and the vision estimate's principal-axes
+  box were developed on these;
+- ``hammers-b``: the same family, seeds 600-611, held out from both;
+- ``mallets``: a round head across a handle (:func:`mallet`, seeds 700-711): a handle of
+  3.5-6.5 cm half length, 5-11 mm across, square to round; a cylindrical head of 10-17 mm
+  radius and 18-35 mm half length lying across its end; held out from both;
 - ``pybullet``: pybullet's teddy, mug and duck, and its torus at 75 mm (``torus_textured.obj``
   at scale 0.05; extra ``objects``);
 - ``everyday``: six everyday objects built with trimesh and written as float32 STL files
@@ -52,11 +58,13 @@ import numpy as np
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 FAMILY_SETS = {"holed": ("holed", "handled", "bodies", "composites"),
-               "more": ("random", "hammers", "pybullet", "everyday"),
+               "more": ("random", "hammers", "hammers-b", "mallets", "pybullet", "everyday"),
                "all": ("holed", "handled", "bodies", "composites", "random", "hammers",
-                       "pybullet", "everyday")}  # fmt: skip
+                       "hammers-b", "mallets", "pybullet", "everyday")}  # fmt: skip
 RANDOM_SEEDS = tuple(range(400, 406))
 HAMMER_SEEDS = tuple(range(500, 508))
+HAMMER_B_SEEDS = tuple(range(600, 612))
+MALLET_SEEDS = tuple(range(700, 712))
 PYBULLET = (("pybullet:teddy", 1.0), ("pybullet:mug", 1.0), ("pybullet:duck", 1.0),
             ("pybullet:torus/torus_textured.obj", 0.05))  # fmt: skip
 EVERYDAY = ("bottle", "can", "tea_box", "pill", "fruit", "tape_roll")
@@ -82,6 +90,26 @@ def hammer(seed: int) -> Any:
     handle = Superquadric(a=[radius, radius, length], eps=[0.3, 1.0])
     head = Superquadric(a=head_a, eps=rng.uniform(0.1, 0.5, 2),
                         center=[0.0, 0.0, length + 0.6 * head_a[2]])  # fmt: skip
+    union = SuperquadricUnion([handle, head]).transformed(random_rotation(rng), np.zeros(3))
+    samples = union.sample_interior(20000, np.random.default_rng(0))
+    return union.transformed(np.eye(3), -samples.mean(axis=0))
+
+
+def mallet(seed: int) -> Any:
+    """A round head across a handle: a handle (half length 3.5-6.5 cm, half widths 5-11 mm and
+    0.7-1 of that, exponents 0.2 and 0.3-1) and a cylindrical head (radius 10-17 mm, half length
+    18-35 mm, flat ends) lying across its end, 70 % of its radius past it, in a random
+    orientation, the union centred on its volume centre."""
+    from hapticsim.geometry import Superquadric, SuperquadricUnion, random_rotation
+
+    rng = np.random.default_rng(seed)
+    length, width = rng.uniform(0.035, 0.065), rng.uniform(0.005, 0.011)
+    handle = Superquadric(a=[width, width * rng.uniform(0.7, 1.0), length],
+                          eps=[0.2, rng.uniform(0.3, 1.0)])  # fmt: skip
+    radius, half = rng.uniform(0.01, 0.017), rng.uniform(0.018, 0.035)
+    across = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # its axis along x
+    head = Superquadric(a=[radius, radius, half], eps=[rng.uniform(0.1, 0.3), 1.0],
+                        rotation=across, center=[0.0, 0.0, length + 0.7 * radius])  # fmt: skip
     union = SuperquadricUnion([handle, head]).transformed(random_rotation(rng), np.zeros(3))
     samples = union.sample_interior(20000, np.random.default_rng(0))
     return union.transformed(np.eye(3), -samples.mean(axis=0))
@@ -137,8 +165,10 @@ def _truth(family: str, index: int) -> Any:
 
     if family == "random":
         return random_superquadric(np.random.default_rng(index), tapered=True)
-    if family == "hammers":
+    if family in ("hammers", "hammers-b"):
         return hammer(index)
+    if family == "mallets":
+        return mallet(index)
     if family == "pybullet":
         source, scale = PYBULLET[index]
         return ObjectSpec(source, scale=scale).resolve()
@@ -267,6 +297,7 @@ def main(argv: list[str] | None = None) -> int:
     families = FAMILY_SETS[args.families]
     indices = {"holed": HOLED_SEEDS, "handled": HANDLED_SEEDS, "bodies": range(8),
                "composites": COMPOSITE_SEEDS, "random": RANDOM_SEEDS, "hammers": HAMMER_SEEDS,
+               "hammers-b": HAMMER_B_SEEDS, "mallets": MALLET_SEEDS,
                "pybullet": range(len(PYBULLET)), "everyday": range(len(EVERYDAY))}
     tasks = [(family, int(i)) for family in families for i in indices[family]]
     tasks = [(family, index, args.sensing) for family, index in tasks]

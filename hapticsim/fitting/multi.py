@@ -30,11 +30,14 @@ the others' (a contact lies on the union's surface: outside every other part).
      measured says a part is there (one-sided contacts leave a part's far side free, and a
      part has the freedom to fill it; the one-part fit has less). Points on that box's faces
      are free space in the refinements, and a union with a part that still has more than
-     :data:`OUTSIDE_SHARE` of its volume outside it is refused. Nor may a part be left
-     unsupported: touched from both sides along each of its axes (a contact normal within 60
-     degrees of the direction), or ending, on a side nobody touched, inside another part (a
-     bar's hidden end in the other bar) or within the contacts' box (:data:`SUPPORT_MARGIN`);
-     else a union with it is refused.
+     :data:`OUTSIDE_SHARE` of its volume outside it is refused. Nor may a part reach where
+     nothing supports it: a side of a part along one of its axes is supported when the part is
+     touched from there (a contact normal within 60 degrees of the direction), or when the
+     part's end there lies inside another part (a bar's hidden end in the other bar) or within
+     the contacts' box (:data:`SUPPORT_MARGIN`); an end on an unsupported side is retracted to
+     :data:`CLIP_MARGIN` data sizes past the part's farthest contact along that axis (a
+     hammer's handle whose butt nobody touched ends where its contacts end, rather than the
+     union being refused, which kept half the hammers one part).
 3. **The criterion** (a robust BIC): for a union U of K parts,
    ``cost(U) = sum_i min(z_i^2, CAP^2) + K P ln n``, ``P = 13`` parameters a part, with
    ``z_i^2 = (d_i / sigma_d)^2 + (|e_i| / sigma_n)^2``, ``d_i`` the contact's first-order signed
@@ -55,7 +58,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -237,19 +240,36 @@ SUPPORT_MARGIN: float = 0.1
 SIDE_COSINE: float = 0.5
 
 
-def _supported(data: _Data, vectors: Array, owner: NDArray[np.int64]) -> bool:
-    """True when every part is touched from both sides along each of its axes, or, on a side
-    nobody touched, ends inside another part (its hidden end) or within the contacts' box
-    (:data:`SUPPORT_MARGIN` data sizes more): otherwise nothing says how far it reaches there
-    (one-sided contacts)."""
+#: How far an untouched end of a part may reach beyond that part's farthest contact along its
+#: axis, in data sizes, when the end is neither inside the contacts' box nor in another part.
+CLIP_MARGIN: float = 0.1
+#: Smallest semi-axis a retracted part keeps, in data sizes.
+MIN_HALF: float = 0.01
+
+
+def _clip_unsupported(data: _Data, vectors: Array, owner: NDArray[np.int64]) -> Array:
+    """The parts with every unsupported end retracted (a copy of `vectors`).
+
+    A part's side along one of its axes is supported when one of its contacts' normals is
+    within 60 degrees of that direction (:data:`SIDE_COSINE`), or when the part's end there
+    lies inside another part (a bar's hidden end in the other bar) or within the contacts' box
+    (:data:`SUPPORT_MARGIN` data sizes more). Else nothing measured says how far the part reaches
+    there (one-sided contacts: a hammer's handle whose butt was never touched), and the end is
+    moved in to :data:`CLIP_MARGIN` data sizes past the part's farthest contact along that
+    axis, the opposite end staying where it is (the semi-axis shrinks by half the retraction
+    and the centre moves by the other half)."""
     if data.allowed is None or len(vectors) < 2:
-        return True
+        return vectors
     margin = SUPPORT_MARGIN * data.size
     lo, hi = data.points.min(axis=0) - margin, data.points.max(axis=0) + margin
     shapes = [Superquadric.from_vector(v) for v in vectors]
+    out = vectors.copy()
     for k, part in enumerate(shapes):
-        cos = data.normals[owner == k] @ part.rotation  # normals in the part's axes
+        mine = owner == k
+        cos = data.normals[mine] @ part.rotation  # normals in the part's axes
+        local = (data.points[mine] - part.center) @ part.rotation
         others = [o for j, o in enumerate(shapes) if j != k]
+        half, shift, moved = part.a.copy(), np.zeros(3), False
         for axis in range(3):
             for sign in (1.0, -1.0):
                 if np.any(sign * cos[:, axis] > SIDE_COSINE):
@@ -259,9 +279,17 @@ def _supported(data: _Data, vectors: Array, owner: NDArray[np.int64]) -> bool:
                 end = part.to_world(tip[None, :])
                 if np.all((end >= lo) & (end <= hi)):
                     continue
-                if not any(bool(o.contains(end)[0]) for o in others):
-                    return False
-    return True
+                if any(bool(o.contains(end)[0]) for o in others):
+                    continue
+                reach = float(np.max(sign * local[:, axis])) + CLIP_MARGIN * data.size
+                cut = part.a[axis] - max(reach, -part.a[axis] + 2.0 * MIN_HALF * data.size)
+                if cut > 0.0:
+                    half[axis] -= 0.5 * cut
+                    shift[axis] -= 0.5 * sign * cut
+                    moved = True
+        if moved:
+            out[k] = replace(part, a=half, center=part.center + part.rotation @ shift).to_vector()
+    return out
 
 
 def _inside_allowed(data: _Data, vectors: Array) -> bool:
@@ -306,7 +334,8 @@ def _alternate(data: _Data, vectors: Array, how: str) -> Candidate | None:
             least_squares_run(objective, vectors[j])
             vectors[j] = objective.best_vector
             data.evaluations += objective.evaluations
-    if not _inside_allowed(data, vectors) or not _supported(data, vectors, owner):
+    vectors = _clip_unsupported(data, vectors, owner)
+    if not _inside_allowed(data, vectors):
         return None
     return data.candidate(vectors, owner, how)
 

@@ -116,3 +116,48 @@ def test_cli_fit_multi_and_score_the_union(tmp_path, capsys) -> None:
                                                                      eps=[3.0, 1.0])]}))
     assert main(["score", str(out), str(bad)]) == 2
     assert "part 1 of the union" in capsys.readouterr().err
+
+
+def _bar_data(points: np.ndarray, normals: np.ndarray):
+    from hapticsim.fitting import multi
+
+    data = multi._Data(points, normals, None, None, 0.02)
+    data.allowed = np.stack([points.min(axis=0), points.max(axis=0)]) + [[-1.0], [1.0]]
+    return multi, data
+
+
+def test_an_end_nobody_touched_is_retracted_to_the_contacts() -> None:
+    # a bar along z touched on its sides only, for z in [-0.03, 0.01], and a ball beside it:
+    # the bar's ends reach +-0.05, beyond the contacts' box, where nothing says it is there
+    bar = Superquadric(a=(0.008, 0.008, 0.05), eps=(0.3, 1.0))
+    phi = np.linspace(0.0, 2.0 * np.pi, 40, endpoint=False)
+    z = np.linspace(-0.03, 0.01, 10)
+    pts = np.array([[0.008 * np.cos(p), 0.008 * np.sin(p), h] for p in phi for h in z])
+    nrm = np.array([[np.cos(p), np.sin(p), 0.0] for p in phi for h in z])
+    ball = Superquadric(a=(0.01, 0.01, 0.01), eps=(1.0, 1.0), center=(0.05, 0.0, -0.01))
+    bp, bn = ball.sample_surface(100, rng=0)
+    multi, data = _bar_data(np.vstack([pts, bp]), np.vstack([nrm, bn]))
+    owner = np.r_[np.zeros(len(pts), int), np.ones(len(bp), int)]
+    out = multi._clip_unsupported(data, np.stack([bar.to_vector(), ball.to_vector()]), owner)
+    clipped = Superquadric.from_vector(out[0])
+    reach = multi.CLIP_MARGIN * data.size
+    top = clipped.center[2] + clipped.a[2]
+    bottom = clipped.center[2] - clipped.a[2]
+    assert top == pytest.approx(0.01 + reach) and bottom == pytest.approx(-0.03 - reach)
+    assert np.allclose(clipped.a[:2], bar.a[:2]) and np.allclose(clipped.rotation, bar.rotation)
+    assert np.array_equal(out[1], ball.to_vector())  # touched all round: unchanged
+
+
+def test_an_end_touched_or_inside_another_part_stays() -> None:
+    # the same bar touched on its top face too, its bottom end inside a second part
+    bar = Superquadric(a=(0.008, 0.008, 0.05), eps=(0.3, 1.0))
+    base = Superquadric(a=(0.03, 0.03, 0.02), eps=(0.5, 0.5), center=(0.0, 0.0, -0.06))
+    pts, nrm = bar.sample_surface(300, rng=1)
+    keep = pts[:, 2] > -0.03
+    bp, bn = base.sample_surface(300, rng=2)
+    bp_keep = bp[:, 2] < -0.045  # nothing near the bar's end
+    multi, data = _bar_data(np.vstack([pts[keep], bp[bp_keep]]),
+                            np.vstack([nrm[keep], bn[bp_keep]]))  # fmt: skip
+    owner = np.r_[np.zeros(int(keep.sum()), int), np.ones(int(bp_keep.sum()), int)]
+    vectors = np.stack([bar.to_vector(), base.to_vector()])
+    assert np.array_equal(multi._clip_unsupported(data, vectors, owner), vectors)
