@@ -13,7 +13,7 @@ from hapticsim.data.io import Contacts, write_contacts
 from hapticsim.data.objects import random_composite, random_holed
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting import fit
-from hapticsim.fitting.multi import OUTSIDE_SHARE
+from hapticsim.fitting.toroid import RING_OUTSIDE_SHARE
 from hapticsim.metrics import score
 
 
@@ -51,7 +51,7 @@ def test_multi_keeps_a_ring_only_where_there_is_a_hole(kind: str, seed: int) -> 
     assert set(holes) == {"costs", "inner_share", "outside_share", "chosen", "evaluations"}
     assert set(holes["outside_share"]) == set(holes["costs"]) - {"union"}
     if kind == "ring":  # a true ring lies where its contacts are (measured: none outside)
-        assert holes["outside_share"]["supertoroid"] <= OUTSIDE_SHARE
+        assert holes["outside_share"]["supertoroid"] <= RING_OUTSIDE_SHARE
     assert result.solid.kind == ("supertoroid" if kind == "ring" else "union")
     assert holes["chosen"] == result.solid.kind  # "supertoroid" (a ring alone) or "union"
     assert score(result.solid, truth, rng=0, volume_samples=50_000).iou > 0.9
