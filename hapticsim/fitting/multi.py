@@ -88,7 +88,8 @@ ROUNDS: int = 3
 #: guards admit, before the search gives up on that count (a hammer's handle and head: a
 #: k-means split that cuts the handle makes a part that leaves the box; explored by the
 #: uncertainty policy, 300 contacts, 4 of 6 hammers stayed one part with the two starts alone,
-#: IoU 0.52-0.56 against 0.98 split, and 3 of 6 with the retries, docs/objects.md).
+#: IoU 0.52-0.56 against 0.98 split, and 3 of 6 with the retries; since untouched ends are
+#: retracted rather than refused (:func:`_clip_unsupported`), 0 of 8, docs/objects.md).
 RETRY_STARTS: int = 4
 #: Weight of the normals against positions (in data sizes) in the k-means features.
 NORMAL_FEATURE: float = 0.3
