@@ -4,9 +4,9 @@ the tables of docs/objects.md ("Objects with holes"; "Every family", issue 37 it
 
     python scripts/holed_table.py --out docs/objects/holed/holed_table.json   # ~8 min, 2 cores
     python scripts/holed_table.py --sensing vision --out docs/objects/holed/vision/holed_table.json
-    python scripts/holed_table.py --families more --out docs/objects/families/exact.json
+    python scripts/holed_table.py --families more --out docs/objects/families/exact/table.json
     python scripts/holed_table.py --families more --sensing vision \
-        --out docs/objects/families/vision.json
+        --out docs/objects/families/vision/table.json
 
 ``--families more`` runs these six families (``all``: them and the four below, which
 ``--families holed``, the default, runs):
@@ -286,7 +286,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--markdown", action="store_true", help="print the table on stderr")
     parser.add_argument("--families", choices=tuple(FAMILY_SETS), default="holed",
                         help="holed: the holed families and their controls; more: random, "
-                             "hammers, pybullet, everyday; all: both")  # fmt: skip
+                             "hammers, hammers-b, mallets, pybullet, everyday; all: "
+                             "both")  # fmt: skip
     args = parser.parse_args(argv)
     from hapticsim.suites.provenance import manifest
 
