@@ -219,14 +219,15 @@ def choose_holed(
     nearest it) replaced by a ring fitted to those contacts; and the union with a ring added,
     fitted to the contacts it explains worst (their z^2 above ``(CAP / 2)^2``), where there are
     that many. A ring must have :data:`MIN_INNER_SHARE` of its own contacts on its inner wall and
-    stay within the contacts' box (module docstring).
+    at most :data:`RING_OUTSIDE_SHARE` of its volume beyond the contacts' box (module
+    docstring).
 
     Returns:
         the chosen solid, and ``{"costs": {name: cost}, "inner_share": {name: share},
         "outside_share": {name: share of the ring's volume beyond the box}, "chosen": name,
         "evaluations": the rings' residual evaluations}``.
     """
-    from hapticsim.fitting.multi import CAP
+    from hapticsim.fitting.multi import CAP, REACH
     from hapticsim.geometry.union import SuperquadricUnion
 
     parts = tuple(union.components)
@@ -261,8 +262,6 @@ def choose_holed(
     for name, (solid, ring, mine) in rings.items():
         costs[name] = holed_cost(solid, points, normals, sigma_distance, sigma_normal)
         inner[name] = inner_share(ring, points[mine], normals[mine])
-    from hapticsim.fitting.multi import REACH
-
     size = float(np.max(np.linalg.norm(points - points.mean(axis=0), axis=1)))
     lo, hi = points.min(axis=0) - REACH * size, points.max(axis=0) + REACH * size
     outside: dict[str, float] = {}

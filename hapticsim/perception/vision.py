@@ -371,22 +371,24 @@ def _box_along(cloud: Array, normal: Array) -> tuple[Array, Array, Array]:
     axes2 = _min_area_rectangle(flat)
     u = axes2[0, 0] * e1 + axes2[1, 0] * e2
     w = np.cross(n, u)
-    rot = np.stack([u, w, n], axis=1)
+    return _box_in(cloud, np.stack([u, w, n], axis=1))
+
+
+def _box_in(cloud: Array, rot: Array) -> tuple[Array, Array, Array]:
+    """The box around a cloud with the axes `rot` (columns): rotation, centre, half extents
+    (between the 0.5 and 99.5 percentiles)."""
     local = cloud @ rot
     lo, hi = np.percentile(local, 0.5, axis=0), np.percentile(local, 99.5, axis=0)
     return rot, rot @ (0.5 * (lo + hi)), np.maximum(0.5 * (hi - lo), 1e-3)
 
 
 def _principal_box(cloud: Array) -> tuple[Array, Array, Array]:
-    """The box around a cloud along its principal axes: rotation, centre, half extents
-    (between the 0.5 and 99.5 percentiles)."""
+    """The box around a cloud along its principal axes (:func:`_box_in`)."""
     d = cloud - cloud.mean(axis=0)
     _, vecs = np.linalg.eigh(d.T @ d)
     if np.linalg.det(vecs) < 0:
         vecs[:, 0] *= -1.0
-    local = cloud @ vecs
-    lo, hi = np.percentile(local, 0.5, axis=0), np.percentile(local, 99.5, axis=0)
-    return vecs, vecs @ (0.5 * (lo + hi)), np.maximum(0.5 * (hi - lo), 1e-3)
+    return _box_in(cloud, vecs)
 
 
 def _camera_axes(cloud: Array, eye: Array) -> Array:
