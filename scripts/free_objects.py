@@ -103,6 +103,10 @@ def run_one(job: tuple[str, str, Any, float | None, str, str, int]) -> dict[str,
     naive_rest = score(naive.solid, record.truth, 0)
     naive_final = score(naive.solid, run.truth_final, 0)
     motion = record.motion
+    from hapticsim.fitting.track import pose_drift, true_poses
+
+    last = true_poses(run.arrays["object_pose"][-1:], np.array(motion["rest_pose"]))[0]
+    still = pose_drift(np.array([0.0, 0, 0, 1, 0, 0, 0]), last, record.truth.center, record.truth)
     row.update(
         mass_kg=motion["mass_kg"],
         moved_mm=1000 * motion["moved"]["last_contact"]["position_m"],
@@ -111,6 +115,9 @@ def run_one(job: tuple[str, str, Any, float | None, str, str, int]) -> dict[str,
         track_iou=record.quality.iou, track_epsilon=record.quality.epsilon,
         drift_mm=1000 * motion["pose_drift"]["position_m"],
         drift_deg=motion["pose_drift"]["angle_deg"], fit_seconds=record.fit_seconds,
+        drift_add_mm=1000 * motion["pose_drift"]["add_m"],
+        drift_adds_mm=1000 * motion["pose_drift"]["adds_m"],
+        moved_adds_mm=1000 * still["adds_m"],
     )  # fmt: skip
     return row | {"seconds": time.perf_counter() - start}
 
@@ -141,12 +148,19 @@ def summarise(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 moved_mm=med("moved_mm"), turned_deg=med("turned_deg"), naive_iou=med("naive_iou"),
                 track_iou=med("track_iou"), naive_iou_final=med("naive_iou_final"),
                 drift_mm=med("drift_mm"), drift_deg=med("drift_deg"),
+                drift_add_mm=med("drift_add_mm"), drift_adds_mm=med("drift_adds_mm"),
+                moved_adds_mm=med("moved_adds_mm"),
                 explore_seconds=med("explore_seconds"),
                 naive_drop=float(np.median([b - r["naive_iou"] for r, b in pairs]))
                 if pairs else None,
                 track_drop=float(np.median([b - r["track_iou"] for r, b in pairs]))
                 if pairs else None,
             )  # fmt: skip
+            whole = [r for r in ok if r["contacts"] >= 150]  # the runs the object stood through
+            entry["complete_only"] = {
+                key: med(key, whole) if whole else None
+                for key in ("drift_mm", "drift_deg", "drift_adds_mm", "moved_adds_mm")
+            }
         out.append(entry)
     return out
 
@@ -165,21 +179,26 @@ def _rounded(value: Any) -> Any:
 def markdown(summary: list[dict[str, Any]]) -> str:
     """The summary as a Markdown table."""
     head = ("| family | strategy | condition | runs (complete) | moved mm | turned deg | naive IoU "
-            "| track IoU | drop naive / track | drift mm / deg | explore s |")  # fmt: skip
-    lines = [head, "|" + "---|" * 11]
+            "| track IoU | drop naive / track | drift mm / deg | ADD-S mm still / tracked "
+            "| complete: drift mm / deg / ADD-S mm | explore s |")  # fmt: skip
+    lines = [head, "|" + "---|" * 13]
     fmt = lambda v, p=3: "–" if v is None else f"{v:.{p}f}"  # noqa: E731
     for e in summary:
         if e["condition"].startswith("fixed"):
             lines.append(f"| {e['family']} | {e['strategy']} | {e['condition']} | {e['runs']} "
-                         f"({e['complete']}) | 0 | 0 | {fmt(e.get('iou'))} | – | – | – | "
+                         f"({e['complete']}) | 0 | 0 | {fmt(e.get('iou'))} | – | – | – | – | – | "
                          f"{fmt(e.get('explore_seconds'), 1)} |")  # fmt: skip
             continue
+        c = e.get("complete_only") or {}
         lines.append(
             f"| {e['family']} | {e['strategy']} | {e['condition']} | {e['runs']} ({e['complete']})"
             f" | {fmt(e.get('moved_mm'), 2)} | {fmt(e.get('turned_deg'), 2)} | "
             f"{fmt(e.get('naive_iou'))} | {fmt(e.get('track_iou'))} | "
             f"{fmt(e.get('naive_drop'))} / {fmt(e.get('track_drop'))} | "
             f"{fmt(e.get('drift_mm'), 2)} / {fmt(e.get('drift_deg'), 2)} | "
+            f"{fmt(e.get('moved_adds_mm'), 2)} / {fmt(e.get('drift_adds_mm'), 2)} | "
+            f"{fmt(c.get('drift_mm'), 2)} / {fmt(c.get('drift_deg'), 2)} / "
+            f"{fmt(c.get('drift_adds_mm'), 2)} | "
             f"{fmt(e.get('explore_seconds'), 1)} |"
         )
     return "\n".join(lines)

@@ -193,7 +193,8 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     ``object_pose`` is the same body's at each contact); ``final_pose``,
     the estimate's IoU and epsilon against the object where the run left it (a tracking fit's
     estimate carried there by its last tracked pose); with a tracking fit, ``pose_drift``: its
-    last tracked pose against the truth's (:func:`~hapticsim.fitting.track.pose_drift`)."""
+    last tracked pose against the truth's (:func:`~hapticsim.fitting.track.pose_drift`, with
+    ADD and ADD-S)."""
     from hapticsim.fitting.track import pose_drift, true_poses
     from hapticsim.geometry.rotations import quaternion_to_matrix
     from hapticsim.metrics.score import score_checked
@@ -219,7 +220,7 @@ def object_motion(run: Any, estimate: Any, result: Any, rng: Any) -> dict[str, A
     tracked = getattr(result, "poses", None)
     if tracked is not None:
         truth = true_poses(poses[-1:], initial)[0]  # the last contact's only
-        out["pose_drift"] = pose_drift(tracked[-1], truth, run.truth.center)
+        out["pose_drift"] = pose_drift(tracked[-1], truth, run.truth.center, run.truth)
         rot = quaternion_to_matrix(tracked[-1][3:])
         carried = estimate.transformed(rot, tracked[-1][:3])
     final = score_checked(carried, run.truth_final, rng)

@@ -65,6 +65,8 @@ MIN_CONTACT_SCALE: float = 2e-4
 MAX_NFEV: int = 100
 #: Contacts between two knots of the tracked trajectory.
 KNOT_SPACING: int = 15
+#: Points of the object's surface that :func:`pose_drift`'s ADD and ADD-S average over.
+DRIFT_SURFACE_POINTS: int = 2000
 
 
 @dataclass(frozen=True)
@@ -156,7 +158,8 @@ def knot_weights(n: int, spacing: int | None = None) -> tuple[Array, Array]:
 
 def track_poses(
     points: Array, normals: Array, start: Array, bounds: Any, prior: MotionPrior | None = None,
-    lam: float = DEFAULT_LAMBDA,
+    lam: float = DEFAULT_LAMBDA, *, spacing: int | None = None,
+    contact_scale: float | None = None, pivot: Array | None = None, known_shape: bool = False,
 ) -> Tracked:  # fmt: skip
     """The joint fit of the module docstring from the superquadric `start` (13,).
 
@@ -166,20 +169,31 @@ def track_poses(
         bounds: the fitter's :class:`~hapticsim.fitting.objective.Bounds` of the contacts.
         prior: the motion prior (default :class:`MotionPrior`).
         lam: the EOF's normal weight.
+        spacing: contacts between two knots (default :data:`KNOT_SPACING`; 1: a pose per
+            contact).
+        contact_scale: the contacts' residual scale [m] (default: the module docstring's).
+        pivot: (3,) the point the rotations turn about (default: `start`'s centre).
+        known_shape: keep the shape at `start` and fit the poses only (a diagnosis: tracking
+            with the object's model known, ``scripts/track_diagnosis.py``).
     """
     prior = MotionPrior() if prior is None else prior
     n = len(points)
     scales = prior.scales
-    _, weights = knot_weights(n)
+    _, weights = knot_weights(n, spacing)
     k = weights.shape[1]
-    r0 = _residuals(points, normals, start, lam)
-    sigma_c = max(MIN_CONTACT_SCALE, float(np.sqrt(np.mean(r0**2))))
-    pivot = np.asarray(start[SLICE_CENTER], dtype=np.float64).copy()
+    if contact_scale is None:
+        r0 = _residuals(points, normals, start, lam)
+        sigma_c = max(MIN_CONTACT_SCALE, float(np.sqrt(np.mean(r0**2))))
+    else:
+        sigma_c = float(contact_scale)
+    pivot = np.asarray(start[SLICE_CENTER] if pivot is None else pivot, dtype=np.float64).copy()
+    n_shape = 0 if known_shape else N_PARAMS
+    fixed = np.asarray(start, dtype=np.float64)
 
     def unpack(x: Array) -> tuple[Array, Array]:
         knots = np.zeros((k, 6))
-        knots[1:] = x[N_PARAMS:].reshape(k - 1, 6)
-        return x[:N_PARAMS], knots
+        knots[1:] = x[n_shape:].reshape(k - 1, 6)
+        return (x[:N_PARAMS] if n_shape else fixed), knots
 
     def residuals(x: Array) -> Array:
         shape, knots = unpack(x)
@@ -191,18 +205,23 @@ def track_poses(
         steps = np.diff(knots, axis=0) / scales
         return np.concatenate([_soft_l1(r / sigma_c), _soft_l1(steps).ravel()])
 
-    sparsity = lil_matrix((n + 6 * (k - 1), N_PARAMS + 6 * (k - 1)), dtype=np.int8)
-    sparsity[:n, :N_PARAMS] = 1
+    sparsity = lil_matrix((n + 6 * (k - 1), n_shape + 6 * (k - 1)), dtype=np.int8)
+    sparsity[:n, :n_shape] = 1
     for j in range(1, k):
-        cols = slice(N_PARAMS + 6 * (j - 1), N_PARAMS + 6 * j)
+        cols = slice(n_shape + 6 * (j - 1), n_shape + 6 * j)
         sparsity[np.flatnonzero(weights[:, j]), cols] = 1
         for step in (j - 1, j):  # the prior's steps into and out of knot j
             if step < k - 1:
                 sparsity[n + 6 * step : n + 6 * step + 6, cols] = 1
-    lower = np.concatenate([bounds.lower, np.full(6 * (k - 1), -np.inf)])
-    upper = np.concatenate([bounds.upper, np.full(6 * (k - 1), np.inf)])
-    x0 = np.concatenate([np.clip(start, bounds.lower, bounds.upper), np.zeros(6 * (k - 1))])
-    x_scale = np.concatenate([bounds.scale, np.tile(scales, k - 1)])
+    free = np.full(6 * (k - 1), np.inf)
+    if known_shape:
+        lower, upper, x0 = -free, free, np.zeros(6 * (k - 1))
+        x_scale = np.tile(scales, k - 1)
+    else:
+        lower = np.concatenate([bounds.lower, -free])
+        upper = np.concatenate([bounds.upper, free])
+        x0 = np.concatenate([np.clip(start, bounds.lower, bounds.upper), np.zeros(6 * (k - 1))])
+        x_scale = np.concatenate([bounds.scale, np.tile(scales, k - 1)])
     result = least_squares(
         residuals, x0, jac_sparsity=sparsity.tocsr(), bounds=(lower, upper), method="trf",
         x_scale=x_scale, max_nfev=MAX_NFEV, tr_solver="lsmr",
@@ -253,20 +272,38 @@ def fit_tracked(method: str, points: Array, normals: Array, fit_shape: Any, star
     )  # fmt: skip
 
 
-def pose_drift(estimated: Array, true: Array, center: Array) -> dict[str, float]:
+def pose_drift(estimated: Array, true: Array, center: Array, solid: Any = None) -> dict[str, float]:
     """How far a tracked pose (7,) is from the true one (7,), both the object frame's origin [m]
-    and quaternion (w first) in the world: ``position_m``, the distance between where the two
-    put the point `center` (3,) of the object's frame (the object's centre), and
-    ``angle_deg``, the angle of the rotation between them."""
+    and quaternion (w first) in the world.
+
+    Returns:
+        ``position_m``, the distance between where the two put the point `center` (3,) of the
+        object's frame (the object's centre); ``angle_deg``, the angle of the rotation between
+        them; and with the object's `solid` (in its own frame) the pose-estimation measures of
+        the field (Hinterstoisser et al. 2012; the BOP benchmark), over
+        :data:`DRIFT_SURFACE_POINTS` points of its surface (a fixed stream): ``add_m``, the
+        mean distance between where the two poses put each point, and ``adds_m``, the mean
+        distance from where the tracked pose puts each point to the surface where the true
+        pose puts it. ADD-S does not count a turn about an axis of symmetry (a cylinder's
+        about its axis), which no touch can see; ``angle_deg`` and ADD do.
+    """
     rot_e = Rotation.from_quat([*estimated[4:], estimated[3]])
     rot_t = Rotation.from_quat([*true[4:], true[3]])
     center = np.array(center, dtype=np.float64)
     at_e = rot_e.apply(center) + estimated[:3]
     at_t = rot_t.apply(center) + true[:3]
-    return {
+    out = {
         "position_m": float(np.linalg.norm(at_e - at_t)),
         "angle_deg": float(np.degrees((rot_e.inv() * rot_t).magnitude())),
     }
+    if solid is not None:
+        surface, _ = solid.sample_surface(DRIFT_SURFACE_POINTS, np.random.default_rng(0))
+        put_e = rot_e.apply(surface) + estimated[:3]
+        out["add_m"] = float(np.mean(np.linalg.norm(put_e - rot_t.apply(surface) - true[:3],
+                                                    axis=1)))  # fmt: skip
+        back = rot_t.inv().apply(put_e - true[:3])  # the tracked points in the true frame
+        out["adds_m"] = float(np.mean(solid.surface_distance(back)))
+    return out
 
 
 def true_poses(object_poses: Array, initial: Array) -> Array:
@@ -282,7 +319,6 @@ def true_poses(object_poses: Array, initial: Array) -> Array:
 
 
 __all__ = [
-    "MotionPrior", "SHAPE_METHOD", "Tracked", "fit_tracked", "knot_weights", "pose_drift",
-    "track_poses",
-    "true_poses",
+    "DRIFT_SURFACE_POINTS", "MotionPrior", "SHAPE_METHOD", "Tracked", "fit_tracked",
+    "knot_weights", "pose_drift", "track_poses", "true_poses",
 ]  # fmt: skip

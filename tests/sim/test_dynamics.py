@@ -228,7 +228,7 @@ def test_explore_a_resting_object_with_tracking_writes_the_spec_files(capsys, tm
     fit_json = json.loads((out / "fit.json").read_text())
     assert np.asarray(fit_json["poses"]).shape == (n, 7) and "solid" in fit_json
     metrics = json.loads((out / "metrics.json").read_text())
-    assert set(metrics["pose_drift"]) == {"position_m", "angle_deg"}
+    assert set(metrics["pose_drift"]) == {"position_m", "angle_deg", "add_m", "adds_m"}
     assert metrics["object_motion"]["mass_kg"] == pytest.approx(0.4)
     assert metrics["force_limit"] == 0.3
     assert (out / "truth.json").exists() and (out / "truth_final.json").exists()
