@@ -75,6 +75,7 @@ def run_one(job: tuple[str, str, Any, float | None, str, str, int]) -> dict[str,
     from hapticsim.exploration.pipeline import run_trial
     from hapticsim.exploration.trial import Trial
     from hapticsim.fitting import fit
+    from hapticsim.fitting.track import IDENTITY_POSE, pose_drift, true_poses
     from hapticsim.metrics.score import score
     from hapticsim.sim.dynamics import ObjectDynamics
     from hapticsim.sim.scene import SceneConfig
@@ -103,10 +104,8 @@ def run_one(job: tuple[str, str, Any, float | None, str, str, int]) -> dict[str,
     naive_rest = score(naive.solid, record.truth, 0)
     naive_final = score(naive.solid, run.truth_final, 0)
     motion = record.motion
-    from hapticsim.fitting.track import pose_drift, true_poses
-
     last = true_poses(run.arrays["object_pose"][-1:], np.array(motion["rest_pose"]))[0]
-    still = pose_drift(np.array([0.0, 0, 0, 1, 0, 0, 0]), last, record.truth.center, record.truth)
+    still = pose_drift(IDENTITY_POSE, last, record.truth.center, record.truth)
     row.update(
         mass_kg=motion["mass_kg"],
         moved_mm=1000 * motion["moved"]["last_contact"]["position_m"],

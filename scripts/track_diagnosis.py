@@ -2,7 +2,7 @@
 the tracker's tuning set explored again, and the trajectory fitted under variants of the joint
 fit, among them two with the object's model known.
 
-    python scripts/track_diagnosis.py --out docs/objects/moving/track_diagnosis.json
+    python scripts/track_diagnosis.py --out docs/objects/moving/diagnosis/track_diagnosis.json
 
 The runs: the ``dev`` family of ``scripts/free_objects.py`` (random superquadrics, object seeds
 1000-1005, 100 g), resting in the cradle with a 0.3 N force limit, the paper strategy and the
@@ -74,8 +74,9 @@ def run_one(job: tuple[int, str, int]) -> dict[str, Any]:
     from hapticsim.exploration.trial import Trial
     from hapticsim.fitting import fit
     from hapticsim.fitting.objective import Bounds
-    from hapticsim.fitting.track import pose_drift, track_poses, true_poses
+    from hapticsim.fitting.track import IDENTITY_POSE, pose_drift, track_poses, true_poses
     from hapticsim.geometry import Superquadric
+    from hapticsim.geometry.rotations import quaternion_to_matrix
     from hapticsim.metrics.score import score
     from hapticsim.sim.dynamics import ObjectDynamics
     from hapticsim.sim.scene import SceneConfig
@@ -92,14 +93,14 @@ def run_one(job: tuple[int, str, int]) -> dict[str, Any]:
     truth = record.truth
     poses = true_poses(record.exploration.arrays["object_pose"],
                        np.array(record.motion["rest_pose"]))  # fmt: skip
-    rot = np.array([_matrix(p) for p in poses])
+    rot = quaternion_to_matrix(poses[:, 3:])
     local = np.einsum("nji,nj->ni", rot, points - poses[:, :3])
     local_n = np.einsum("nji,nj->ni", rot, normals)
     for key, (p, n) in {"world_frame": (points, normals), "true_frame": (local, local_n)}.items():
         dist, angle = truth.contact_errors(p, n)
         row[key] = {"distance_mm": 1000 * float(np.median(np.abs(dist))),
                     "angle_deg": float(np.median(angle))}  # fmt: skip
-    still = pose_drift(np.array([0.0, 0, 0, 1, 0, 0, 0]), poses[-1], truth.center, truth)
+    still = pose_drift(IDENTITY_POSE, poses[-1], truth.center, truth)
     row.update(contacts=len(points), moved_mm=1000 * still["position_m"],
                turned_deg=still["angle_deg"], moved_adds_mm=1000 * still["adds_m"])  # fmt: skip
     naive = fit(points, normals, method="nH", rng=record.seeds.rng("fit")).solid
@@ -116,12 +117,6 @@ def run_one(job: tuple[int, str, int]) -> dict[str, Any]:
             "drift_adds_mm": 1000 * drift["adds_m"],
         }  # fmt: skip
     return row
-
-
-def _matrix(pose: np.ndarray) -> np.ndarray:
-    from hapticsim.geometry.rotations import quaternion_to_matrix
-
-    return quaternion_to_matrix(pose[3:])
 
 
 def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:

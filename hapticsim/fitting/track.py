@@ -67,6 +67,9 @@ MAX_NFEV: int = 100
 KNOT_SPACING: int = 15
 #: Points of the object's surface that :func:`pose_drift`'s ADD and ADD-S average over.
 DRIFT_SURFACE_POINTS: int = 2000
+#: The object's frame where it rested (:meth:`Tracked.poses`'s layout): the first tracked pose.
+IDENTITY_POSE: Array = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+IDENTITY_POSE.flags.writeable = False
 
 
 @dataclass(frozen=True)
@@ -319,6 +322,6 @@ def true_poses(object_poses: Array, initial: Array) -> Array:
 
 
 __all__ = [
-    "DRIFT_SURFACE_POINTS", "MotionPrior", "SHAPE_METHOD", "Tracked", "fit_tracked",
-    "knot_weights", "pose_drift", "track_poses", "true_poses",
+    "DRIFT_SURFACE_POINTS", "IDENTITY_POSE", "MotionPrior", "SHAPE_METHOD", "Tracked",
+    "fit_tracked", "knot_weights", "pose_drift", "track_poses", "true_poses",
 ]  # fmt: skip

@@ -180,9 +180,9 @@ class RunScene:
             node.position = pose[:3]
             node.wxyz = pose[3:]
         self._truth_moved = True
-        from hapticsim.fitting.track import pose_drift
+        from hapticsim.fitting.track import IDENTITY_POSE, pose_drift
 
-        rest = pose_drift(pose, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]), self.center)
+        rest = pose_drift(pose, IDENTITY_POSE, self.center)
         return (f"; the object moved {1000 * rest['position_m']:.1f} mm, "
                 f"{rest['angle_deg']:.1f} deg")  # fmt: skip
 
