@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from hapticsim.fitting._problem_compiled import problem_residuals_posed, residual_length
-from hapticsim.geometry.eof_compiled import JIT, vector_fields
+from hapticsim.geometry.eof_compiled import INLINE, JIT, vector_fields
 from hapticsim.geometry.layout import I_A, I_CENTER, I_EPS, I_TAPER, N_PARAMS
 
 #: Status codes of :func:`ga_run`, in the order of ``genetic.STATUSES``.
@@ -63,21 +63,21 @@ JUMP_MATS = np.array(
 JUMP_PERM = np.array([[0, 2, 1], [2, 1, 0]], dtype=np.int64)
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _copy3(a: np.ndarray, out: np.ndarray) -> None:
     for i in range(3):
         for j in range(3):
             out[i, j] = a[i, j]
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _matmul3(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:
     for i in range(3):
         for j in range(3):
             out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def align(
     ref: np.ndarray, rot: np.ndarray, genes: np.ndarray, out_genes: np.ndarray,
     out_rot: np.ndarray, sym_idx: np.ndarray, sym_val: np.ndarray, sym_a: np.ndarray,
@@ -108,22 +108,21 @@ def align(
             out_rot[j, i] = rot[j, col] * val
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def solid_distance(
     genes: np.ndarray, rot: np.ndarray, other: np.ndarray, other_rot: np.ndarray, size: float,
-    tables: tuple, aligned: np.ndarray, aligned_rot: np.ndarray,
+    tables: tuple, aligned: np.ndarray, aligned_rot: np.ndarray, limit: float = math.inf,
 ) -> float:  # fmt: skip
     """The dimensionless distance of :func:`hapticsim.fitting.genetic.solid_distance`
-    (`aligned` (13,) and `aligned_rot` (3, 3) are scratch)."""
+    (`aligned` (13,) and `aligned_rot` (3, 3) are scratch), or inf when it is not below
+    `limit`.
+
+    The distance is ``((angle + sizes) + centre) + shape``, each term >= 0. Rounding is
+    monotone, so the sum is at least the rounded ``centre + shape``: when that alone reaches
+    `limit`, the logarithms and the arccosine are skipped and inf returned, which a search for
+    the nearest individual (``d < nearest``) treats exactly as the distance itself.
+    """
     align(other_rot, rot, genes, aligned, aligned_rot, *tables)
-    cos = -1.0
-    for i in range(3):
-        for j in range(3):
-            cos += other_rot[i, j] * aligned_rot[i, j]
-    cos = min(max(cos / 2.0, -1.0), 1.0)
-    d_a = 0.0
-    for k in range(3):
-        d_a += abs(math.log(aligned[I_A + k] / other[I_A + k]))
     d_c = math.sqrt(
         (aligned[I_CENTER] - other[I_CENTER]) ** 2
         + (aligned[I_CENTER + 1] - other[I_CENTER + 1]) ** 2
@@ -132,10 +131,21 @@ def solid_distance(
     d_s = 0.0
     for k in range(I_EPS, I_TAPER + 2):  # exponents and tapers
         d_s += abs(aligned[k] - other[k])
-    return math.acos(cos) / 0.5 + d_a / 0.3 + d_c / (0.2 * size) + d_s / 0.5
+    centre, shape = d_c / (0.2 * size), d_s / 0.5
+    if centre + shape >= limit:
+        return math.inf
+    cos = -1.0
+    for i in range(3):
+        for j in range(3):
+            cos += other_rot[i, j] * aligned_rot[i, j]
+    cos = min(max(cos / 2.0, -1.0), 1.0)
+    d_a = 0.0
+    for k in range(3):
+        d_a += abs(math.log(aligned[I_A + k] / other[I_A + k]))
+    return math.acos(cos) / 0.5 + d_a / 0.3 + centre + shape
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def distance_bound(genes: np.ndarray, other: np.ndarray, size: float) -> float:
     """A lower bound of :func:`solid_distance` from its terms that no re-parametrisation changes
     (the centre and the shape exponents): no alignment needed."""
@@ -150,7 +160,7 @@ def distance_bound(genes: np.ndarray, other: np.ndarray, size: float) -> float:
     )
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _orthonormalise(m: np.ndarray, out: np.ndarray) -> None:
     """Gram-Schmidt on the first two columns of m, third = first x second."""
     n0 = math.sqrt(m[0, 0] ** 2 + m[1, 0] ** 2 + m[2, 0] ** 2)
@@ -166,7 +176,7 @@ def _orthonormalise(m: np.ndarray, out: np.ndarray) -> None:
     out[2, 2] = u[0] * v1 - u[1] * v0
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _axis_angle(axis: np.ndarray, angle: float, out: np.ndarray) -> None:
     """Rotation by `angle` [rad] about the unit `axis` (Rodrigues)."""
     c, s = math.cos(angle), math.sin(angle)
@@ -177,7 +187,7 @@ def _axis_angle(axis: np.ndarray, angle: float, out: np.ndarray) -> None:
     out[2, 0], out[2, 1], out[2, 2] = t * x * z - s * y, t * y * z + s * x, t * z * z + c
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _tournament(rng: np.random.Generator, eof: np.ndarray, size: int) -> int:
     best = rng.integers(0, eof.shape[0])
     for _ in range(size - 1):
@@ -295,7 +305,7 @@ def _stable_order(values: np.ndarray) -> np.ndarray:
     return order
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _put(
     genes: np.ndarray, rot: np.ndarray, i: int, src_genes: np.ndarray, src_rot: np.ndarray, j: int
 ) -> None:
@@ -438,8 +448,9 @@ def ga_run(
                     if distance_bound(kids[c], genes[j], size) >= near:
                         continue  # cannot be the nearest: skip the alignment
                     d = solid_distance(
-                        kids[c], kid_rot[c], genes[j], rot[j], size, tables, scratch, scratch_rot
-                    )
+                        kids[c], kid_rot[c], genes[j], rot[j], size, tables, scratch, scratch_rot,
+                        near,
+                    )  # fmt: skip
                     if d < near:
                         nearest, near = j, d
                 if kid_eof[c] < eof[nearest]:
@@ -484,3 +495,30 @@ def solid_distance_many(
         out[p] = solid_distance(
             genes[p], rot[p], other[p], other_rot[p], size, tables, scratch, scratch_rot
         )
+
+
+@njit(**JIT)
+def distinct_rows(
+    genes: np.ndarray, rot: np.ndarray, count: int, size: float, out: np.ndarray
+) -> int:  # fmt: skip
+    """Rows of genes (P, 13) / rot (P, 3, 3), in order, each kept when its smallest
+    :func:`solid_distance` to the rows kept before it is above 1 (or NaN, as ``np.min`` gives),
+    until `count` are kept: their indices into `out`; returns how many."""
+    tables = TABLES
+    scratch, scratch_rot = np.empty(N_PARAMS), np.empty((3, 3))
+    kept = 0
+    for i in range(genes.shape[0]):
+        nearest, undefined = math.inf, False
+        for c in range(kept):
+            j = out[c]
+            d = solid_distance(genes[i], rot[i], genes[j], rot[j], size, tables, scratch,
+                               scratch_rot)  # fmt: skip
+            undefined = undefined or d != d
+            nearest = min(nearest, d)
+        if kept and nearest <= 1.0 and not undefined:
+            continue
+        out[kept] = i
+        kept += 1
+        if kept == count:
+            break
+    return kept

@@ -49,7 +49,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from hapticsim.errors import InvalidInputError
-from hapticsim.fitting.genetic import GeneticOptions, GeneticRun, genetic_search, solid_distance
+from hapticsim.fitting import _ga_compiled as _ga
+from hapticsim.fitting.genetic import GeneticOptions, GeneticRun, genetic_search
 from hapticsim.fitting.least_squares import (
     MIN_RUN_EVALUATIONS,
     STEP_EVALUATIONS,
@@ -108,21 +109,11 @@ class HybridOptions:
 def distinct_starts(run: GeneticRun, count: int, size: float) -> list[Array]:
     """Up to `count` individuals of the last generation, best first, pairwise different solids
     (:func:`~hapticsim.fitting.genetic.solid_distance` > 1)."""
-    rot = rotvec_to_matrix(run.population[:, SLICE_ROTVEC])
-    chosen: list[int] = []
-    for i in range(len(run.population)):
-        if chosen:
-            dist = solid_distance(
-                np.repeat(run.population[i : i + 1], len(chosen), axis=0),
-                np.repeat(rot[i : i + 1], len(chosen), axis=0),
-                run.population[chosen], rot[chosen], size,
-            )  # fmt: skip
-            if np.min(dist) <= 1.0:
-                continue
-        chosen.append(i)
-        if len(chosen) == count:
-            break
-    return [run.population[i] for i in chosen]
+    genes = np.ascontiguousarray(run.population, dtype=np.float64)
+    rot = rotvec_to_matrix(genes[:, SLICE_ROTVEC])
+    chosen = np.empty(max(count, 0), np.int64)
+    kept = _ga.distinct_rows(genes, rot, int(count), float(size), chosen) if count > 0 else 0
+    return [run.population[i] for i in chosen[:kept]]
 
 
 def hybrid_search(

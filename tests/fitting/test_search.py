@@ -154,3 +154,61 @@ def test_restarts_spend_the_budget_left_and_keep_the_best(box_contacts) -> None:
         HybridOptions(restarts=-1)
     with pytest.raises(InvalidInputError, match="restart_fraction"):
         HybridOptions(restart_fraction=0.0)
+
+
+def _population(rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Random parameter vectors around one solid, some far apart, and their rotations."""
+    genes = np.zeros((count, 13))
+    genes[:, 0:3] = rng.uniform(0.02, 0.05, (count, 3))
+    genes[:, 3:5] = rng.uniform(0.2, 1.5, (count, 2))
+    genes[:, 5:7] = rng.uniform(-0.3, 0.3, (count, 2))
+    genes[:, 7:10] = rng.normal(0.0, 0.6, (count, 3))
+    genes[:, 10:13] = rng.normal(0.0, 0.01, (count, 3))
+    return genes, rotvec_to_matrix(genes[:, 7:10])
+
+
+def test_a_distance_cut_at_a_limit_is_the_distance_below_it() -> None:
+    from hapticsim.fitting import _ga_compiled as ga
+
+    rng = np.random.default_rng(3)
+    genes, rot = _population(rng, 400)
+    full = solid_distance(genes[:200], rot[:200], genes[200:], rot[200:], 0.1)
+    scratch, scratch_rot = np.empty(13), np.empty((3, 3))
+    cut = 0
+    for i in range(200):
+        for limit in full[i] * np.array([0.1, 0.3, 1.0, 1.5]):
+            d = ga.solid_distance(genes[i], rot[i], genes[200 + i], rot[200 + i], 0.1,
+                                  ga.TABLES, scratch, scratch_rot, limit)  # fmt: skip
+            if full[i] < limit:
+                assert d == full[i]  # bit for bit below the limit
+            else:
+                assert d == full[i] or d == np.inf
+                cut += d == np.inf
+    assert cut > 50  # the cut does happen: the shortcut is exercised
+
+
+def test_distinct_starts_keep_the_rows_a_greedy_pass_keeps() -> None:
+    from hapticsim.fitting.genetic import GeneticRun
+    from hapticsim.fitting.hybrid import distinct_starts
+
+    rng = np.random.default_rng(4)
+    genes, _ = _population(rng, 40)
+    genes[10:20] = genes[:10] + rng.normal(0.0, 1e-4, (10, 13))  # near copies: dropped
+    genes[:, 7:10] = matrix_to_rotvec(rotvec_to_matrix(genes[:, 7:10]))
+    run = GeneticRun(population=genes, eof=np.zeros(40), generations=0, evaluations=0,
+                     status="budget")  # fmt: skip
+    rot = rotvec_to_matrix(genes[:, 7:10])
+    for count in (1, 5, 16, 40):
+        kept: list[int] = []
+        for i in range(40):
+            if kept and np.min(solid_distance(np.repeat(genes[i : i + 1], len(kept), 0),
+                                              np.repeat(rot[i : i + 1], len(kept), 0),
+                                              genes[kept], rot[kept], 0.1)) <= 1.0:  # fmt: skip
+                continue
+            kept.append(i)
+            if len(kept) == count:
+                break
+        got = distinct_starts(run, count, 0.1)
+        assert len(got) == len(kept)
+        assert all(np.array_equal(g, genes[k]) for g, k in zip(got, kept, strict=True))
+    assert len(distinct_starts(run, 40, 0.1)) < 40
