@@ -39,12 +39,13 @@ NORMAL_METHODS: frozenset[str] = frozenset({"nLS", "nH", "nML", "multi", "gpis",
 SOLID_METHODS: frozenset[str] = frozenset({"multi", "gpis", "supertoroid", *TRACK_METHODS})
 #: Methods with the genetic algorithm.
 HYBRID_METHODS: frozenset[str] = frozenset({"H", "nH", "nML"})
-#: Default evaluation budget of every method (EOF evaluations, SPEC §3). With the compiled
-#: fitter a default nH fit of 150 contacts takes a median 0.055 s of CPU on the development
-#: machine (2 vCPU Xeon; 0.035 s at 5000), and the budget buys robustness: on the hardest random
-#: tapered cases found by ``scripts/global_minimum.py`` the share of fits missing the lowest EOF
-#: fell from 42 % at 5000 to 13 % at 7500 (3 % at 10 000, at 0.08 s). LS and nLS usually
-#: converge in 300-500 evaluations, well within it.
+#: Default evaluation budget of every method (EOF evaluations, SPEC §3). A default nH fit of
+#: 150 contacts takes a median 0.017 s of CPU on an AMD Zen 5 core (0.028 s before the GA share
+#: fell to 0.05, see :mod:`hapticsim.fitting.hybrid`; 0.055 s on the first development machine,
+#: a 2 vCPU Xeon, before the Jacobian was vectorised), and the budget buys robustness: on the
+#: hardest random tapered cases found by ``scripts/global_minimum.py`` the share of fits missing
+#: the lowest EOF fell from 42 % at 5000 to 13 % at 7500 (3 % at 10 000), measured with the
+#: earlier GA share of 0.4. LS and nLS usually converge in 300-500 evaluations, well within it.
 DEFAULT_BUDGET: int = 7500
 #: The budget of the paper reproduction (Figs. 4 and 5, ``hapticsim reproduce``): every method
 #: at the same budget, as in the paper's Section IV; kept at the value RESULTS.md was made with.
