@@ -40,7 +40,12 @@ import sys
 import time
 from typing import Any
 
-import numpy as np
+# One BLAS thread, set before numpy loads BLAS: the peer's package asks for it, and a second
+# thread spinning beside a fit would double both methods' CPU seconds (its setdefault in main()
+# came after numpy's import and did nothing, unless the shell had set it).
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402 - after the thread setting
 
 NOISES = (0.0, 0.02, 0.05, 0.1)
 FAMILIES = ("paper", "random", "ring")
@@ -146,7 +151,6 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=["nH", "sage"])
     parser.add_argument("--out", default=None, help="results JSON (a manifest.json beside it)")
     args = parser.parse_args()
-    os.environ.setdefault("OMP_NUM_THREADS", "1")  # the peer's package asks for it
     start = time.perf_counter()
     from hapticsim.data.bodies import get_body
     from hapticsim.data.synthetic import paper_dataset
