@@ -245,7 +245,8 @@ def _estimate(
     free_space: np.ndarray,
 ) -> tuple[Any, Any, dict[str, Any]]:  # fmt: skip
     """The trial's estimator on the noisy contacts: (fit result, solid, fit info)."""
-    from hapticsim.fitting import DEFAULT_BUDGET, fit
+    from hapticsim.fitting import fit
+    from hapticsim.fitting.driver import method_budget
     from hapticsim.fitting.ml import MLOptions
 
     extra: dict[str, Any] = {}
@@ -260,9 +261,10 @@ def _estimate(
         extra = {"free": free_space}
     if trial.holes:
         extra["holes"] = True
-    result = fit(points, normals, method=trial.estimator, budget=DEFAULT_BUDGET,
+    budget = method_budget(trial.estimator, extra.get("options"))
+    result = fit(points, normals, method=trial.estimator, budget=budget,
                  rng=seeds.rng("fit"), **extra)  # fmt: skip
-    info = {"fitter": trial.estimator, "budget": int(DEFAULT_BUDGET),
+    info = {"fitter": trial.estimator, "budget": int(budget),
             "evaluations": result.evaluations, "fit_status": result.status}  # fmt: skip
     return result, result.solid, info
 

@@ -32,7 +32,7 @@ from hapticsim.fitting.methods import (
     TRACK_METHODS,
     uses_normals,
 )
-from hapticsim.fitting.ml import MLOptions, guarded, ml_objective, ml_search
+from hapticsim.fitting.ml import MLOptions, default_budget, guarded, ml_objective, ml_search
 from hapticsim.fitting.multi import multi_search
 from hapticsim.fitting.objective import Objective
 from hapticsim.fitting.result import FitResult, PartSelection
@@ -52,6 +52,26 @@ DEFAULT_DISTANCE: str = "tapered"
 RANDOM_FRAMES_BUDGET: int = 6000
 #: Singular-value ratio of the centred contacts below which they count as one line.
 LINE_TOLERANCE: float = 1e-6
+
+
+def method_budget(method: str, options: MLOptions | None = None) -> int:
+    """A method's default budget: :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`, and for
+    nML the budget whose EOF search is nH's default fit
+    (:func:`~hapticsim.fitting.ml.default_budget`: its ML stages come on top)."""
+    if method == "nML":
+        return default_budget(DEFAULT_BUDGET, options)
+    return DEFAULT_BUDGET
+
+
+def hybrid_seeds(points: Array, normals: Array | None, warm: Superquadric | None,
+                 budget: int) -> Array:  # fmt: skip
+    """The start vectors of the hybrid search (H, nH and nML's EOF search): the data-derived
+    seeds, and seeds in more orientations when the budget pays for them
+    (:data:`RANDOM_FRAMES_BUDGET`)."""
+    seeds = seed_vectors(points, normals, warm)
+    if budget >= RANDOM_FRAMES_BUDGET:
+        seeds = np.concatenate([seeds, random_frame_seeds(points, normals)])
+    return seeds
 
 
 def _check_spread(points: Array) -> None:
@@ -99,7 +119,8 @@ def fit(
             (:mod:`hapticsim.fitting.gpis`, extra ``gpis``; needs normals), or
             ``"supertoroid"``, a superquadric with a hole (:mod:`hapticsim.fitting.toroid`;
             needs normals).
-        budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`).
+        budget: EOF evaluations allowed (default :data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`;
+            for nML that plus its ML stages, :func:`method_budget`).
         rng: seed or generator of the genetic algorithm; the same seed gives the same result,
             bit for bit.
         lam: weight lambda of the normal term (SPEC §2), >= 0.
@@ -145,9 +166,12 @@ def fit(
     nrm = None if normals is None else normals_array(normals, len(pts), "normals")
     if uses_normals(method) and nrm is None:
         raise InvalidInputError(f"method {method} needs `normals`; use LS or H for points only")
+    if options is not None and not isinstance(options, MLOptions):
+        raise InvalidInputError(f"`options` must be MLOptions, got {type(options).__name__}")
     n_evals = (
-        DEFAULT_BUDGET if budget is None else positive_int(budget, "budget", maximum=MAX_BUDGET)
-    )
+        method_budget(method, options) if budget is None
+        else positive_int(budget, "budget", maximum=MAX_BUDGET)
+    )  # fmt: skip
     gen = as_generator(rng)
     weight = finite_float(lam, "lam", low=0.0)
     warm = None if initial is None else superquadric_arg(initial, "initial")
@@ -172,8 +196,6 @@ def fit(
         )
     noise_level = None if noise is None else finite_float(noise, "noise", low=0.0)
     free_pts = None if free is None else finite_array(free, "free", (None, 3))
-    if options is not None and not isinstance(options, MLOptions):
-        raise InvalidInputError(f"`options` must be MLOptions, got {type(options).__name__}")
     multipliers = ratio = None
     if sigma_normal is not None and sigma is None:
         raise InvalidInputError("`sigma_normal` needs `sigma` (the points' standard deviations)")
@@ -231,14 +253,13 @@ def fit(
         checks = opt.guard is not None and opt.search == "eof"  # one more EOF: the basin's
         objective = ml_objective(pts, data_normals, n_evals - 1 - checks, noise_level, free_pts,
                                  options, multipliers, ratio)  # fmt: skip
-        run = ml_search(objective, seed_vectors(pts, nrm, warm), gen, noise_level, options,
-                        multipliers, ratio)  # fmt: skip
+        search = n_evals - default_budget(0, opt)  # the EOF search's share, as nH's budget
+        run = ml_search(objective, hybrid_seeds(pts, nrm, warm, search), gen, noise_level,
+                        options, multipliers, ratio)  # fmt: skip
         status = run.status
     elif method in HYBRID_METHODS:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)
-        seeds = seed_vectors(pts, objective.normals, warm)
-        if n_evals >= RANDOM_FRAMES_BUDGET:  # the budget pays for seeds in more orientations
-            seeds = np.concatenate([seeds, random_frame_seeds(pts, objective.normals)])
+        seeds = hybrid_seeds(pts, objective.normals, warm, n_evals)
         _, status = hybrid_search(objective, seeds, gen, HybridOptions())
     else:
         objective = Objective(pts, data_normals, weight, n_evals - (not spec), distance)

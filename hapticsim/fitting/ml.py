@@ -297,6 +297,20 @@ def _eof_search(
     return status, eof.best_vector
 
 
+def default_budget(search_budget: int, options: MLOptions | None = None) -> int:
+    """The budget at which nML's EOF search gets `search_budget` evaluations: with nH's default
+    budget (:data:`~hapticsim.fitting.methods.DEFAULT_BUDGET`) that search *is* nH's default fit
+    (same seeds, random stream, budget and search), so the guard weighs the ML estimate against
+    nH's own answer; the ML stages, the refinement and the guard's check come on top
+    (:attr:`MLOptions.ml_budget` + :attr:`MLOptions.refine_budget` + 1). With
+    ``search="ml"`` there is no EOF search: `search_budget` itself."""
+    opt = MLOptions() if options is None else options
+    if opt.search != "eof":
+        return int(search_budget)
+    keep = opt.refine_budget if opt.refine else 0
+    return int(search_budget) + opt.ml_budget + keep + (opt.guard is not None)
+
+
 def guarded(eofs: tuple[float, float], ratio: float) -> str:
     """Why nML should return the EOF search's best solid instead of its ML estimate, or ""
     when it should not (:attr:`MLOptions.guard`): `eofs` are the paper EOFs [m^2] of the ML
@@ -332,5 +346,5 @@ def with_options(options: MLOptions | None, **changes: object) -> MLOptions:
     return replace(MLOptions() if options is None else options, **changes)
 
 
-__all__ = ["ANCHOR_NOISE", "MLOptions", "MLRun", "guarded", "ml_objective",
+__all__ = ["ANCHOR_NOISE", "MLOptions", "MLRun", "default_budget", "guarded", "ml_objective",
            "ml_search", "with_options"]

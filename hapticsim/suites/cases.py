@@ -113,9 +113,10 @@ def _fit(
     """The estimate of the case's method, or of the plug-in fitter; and what the fit reported."""
     start = time.perf_counter()
     if fitter is None:
-        from hapticsim.fitting import DEFAULT_BUDGET, fit
+        from hapticsim.fitting import fit
+        from hapticsim.fitting.driver import method_budget
 
-        evaluations = DEFAULT_BUDGET if budget == "default" else budget
+        evaluations = method_budget(method) if budget == "default" else budget
         result = fit(points, normals, method=method, budget=evaluations, rng=rng)
         timing["fit"] = time.perf_counter() - start
         return result.solid, {

@@ -10,6 +10,7 @@ from hapticsim.data.bodies import get_body
 from hapticsim.data.synthetic import paper_dataset
 from hapticsim.errors import InvalidInputError
 from hapticsim.fitting import DEFAULT_BUDGET, fit
+from hapticsim.fitting.driver import method_budget
 from hapticsim.fitting.likelihood import Likelihood, contact_distances, estimate_noise
 from hapticsim.fitting.ml import MLOptions, ml_objective, with_options
 from hapticsim.geometry import Superquadric
@@ -34,7 +35,7 @@ def test_nml_recovers_a_tapered_box_from_clean_sparse_contacts() -> None:
     # Measured: epsilon 0.001, estimated noise at the floor 0.005.
     assert _epsilon(result.superquadric, truth) < 0.015
     assert result.method == "nML" and result.noise == pytest.approx(0.005)
-    assert result.evaluations <= DEFAULT_BUDGET
+    assert result.evaluations <= method_budget("nML")
 
 
 # Measured epsilon at sigma_N = 0.1 (pose and data seed as given, fit seed the same):
@@ -107,7 +108,7 @@ def test_the_guard_keeps_the_search_solid_where_the_ml_terms_pull_an_exact_fit_o
     assert "kept the EOF search's solid" in kept.message
     assert "kept" not in free.message
     assert kept.eof < 1e-6 * free.eof
-    assert kept.evaluations <= DEFAULT_BUDGET and free.evaluations <= DEFAULT_BUDGET
+    assert kept.evaluations <= method_budget("nML") and free.evaluations <= method_budget("nML")
     with pytest.raises(InvalidInputError, match="guard"):
         MLOptions(guard=0.0)
 
@@ -274,3 +275,30 @@ def test_anchor_option_is_validated() -> None:
         MLOptions(anchor=0.0)
     with pytest.raises(InvalidInputError, match="anchor"):
         Likelihood(noise=0.1, length=0.04, anchor=np.zeros(3))
+
+
+def test_nml_searches_with_nh_default_fit_and_its_stages_come_on_top(monkeypatch) -> None:
+    """nML's default budget gives its EOF search nH's default budget and seeds, so the basin it
+    weighs its ML estimate against is nH's own default fit, bit for bit (same process)."""
+    import hapticsim.fitting.ml as ml_module
+
+    options = MLOptions()
+    assert method_budget("nH") == DEFAULT_BUDGET
+    assert method_budget("nML") == (DEFAULT_BUDGET + options.ml_budget + options.refine_budget
+                                    + 1)  # fmt: skip
+    assert method_budget("nML", MLOptions(search="ml")) == DEFAULT_BUDGET
+    basins = []
+    search = ml_module._eof_search
+
+    def spy(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        status, basin = search(*args, **kwargs)
+        basins.append(basin.copy())
+        return status, basin
+
+    monkeypatch.setattr(ml_module, "_eof_search", spy)
+    data = paper_dataset(get_body("tapered_box"), noise=0.05, rng=3, count=80)
+    nh = fit(data.points, data.normals, method="nH", rng=5)
+    nml = fit(data.points, data.normals, method="nML", rng=5)
+    basin = Superquadric.from_vector(basins[0]).to_vector()
+    assert np.array_equal(basin, nh.superquadric.to_vector())
+    assert nh.evaluations < nml.evaluations <= method_budget("nML")
