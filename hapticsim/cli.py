@@ -356,8 +356,9 @@ def build_parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     p.add_argument("--seed", type=_seed, default=0)
     p.add_argument(
-        "--budget", type=int, default=None, help=f"EOF evaluations (default {DEFAULT_BUDGET})"
-    )
+        "--budget", type=int, default=None,
+        help=f"EOF evaluations (default {DEFAULT_BUDGET}; nML: nH's search plus its ML stages)",
+    )  # fmt: skip
     p.add_argument("--out", default=None, help="also write the result JSON here")
     p.add_argument(
         "--uncertainty", action="store_true",
