@@ -71,7 +71,12 @@ ensure_fresh()  # before any cached kernel of hapticsim is loaded (they all impo
 
 #: LLVM options set once per process before the kernels compile (module docstring, "Speed").
 VECTORIZER_OPTIONS: tuple[str, ...] = ("-vectorize-memory-check-threshold=256",)
-if llvm.llvm_version_info[0] >= 11:  # the option exists in every LLVM numba has used since 2020
+#: LLVM major versions the option is set in: it exists in all of them (22 is numba 0.68's, the
+#: newest checked). LLVM exits the process on an option it does not know, so a newer LLVM goes
+#: without it (a scalar Jacobian, the same results) until it is checked there and the bound
+#: raised.
+VECTORIZER_LLVM: tuple[int, int] = (11, 22)
+if VECTORIZER_LLVM[0] <= llvm.llvm_version_info[0] <= VECTORIZER_LLVM[1]:
     for _option in VECTORIZER_OPTIONS:
         llvm.set_option("hapticsim", _option)
 
