@@ -30,7 +30,6 @@ import json
 import os
 import sys
 import time
-from multiprocessing import Pool
 from typing import Any
 
 import numpy as np
@@ -151,14 +150,10 @@ def main() -> None:
     args = parser.parse_args()
     jobs = [(s, strategy, seed) for s in range(1000, 1006) for strategy in STRATEGIES
             for seed in args.seeds]  # fmt: skip
+    from hapticsim.parallel import parallel_map
+
     start = time.perf_counter()
-    rows = []
-    with Pool(args.workers) as pool:
-        for k, row in enumerate(pool.imap_unordered(run_one, jobs), 1):
-            rows.append(row)
-            result = row.get("error") or f"{row['tracker']['drift_deg']:.2f} deg"
-            sys.stderr.write(f"[{k}/{len(jobs)}] {row['object']} {row['strategy']} "
-                             f"{row['seed']}: {result}\n")  # fmt: skip
+    rows = parallel_map(run_one, jobs, args.workers, "track diagnosis", unit="run")
     rows.sort(key=lambda r: (r["object"], r["strategy"], r["seed"]))
     text = json.dumps({"command": " ".join(sys.argv), "seconds": time.perf_counter() - start,
                        "summary": summarise(rows), "runs": rows}, indent=1)  # fmt: skip

